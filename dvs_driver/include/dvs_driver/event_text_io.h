@@ -1,0 +1,35 @@
+#pragma once
+// Event Camera Dataset `events.txt`: one event a line, `t x y p`, t in seconds (decimal,
+// nanosecond resolution), x y integer pixels (top-left origin), p 1 = ON, 0 = OFF.
+#include <dvs_driver/event.h>
+
+#include <iosfwd>
+#include <stdexcept>
+#include <string>
+
+namespace dvs_driver
+{
+/// Thrown for unreadable or malformed event files; the message names file and line.
+class EventFileError : public std::runtime_error
+{
+public:
+  using std::runtime_error::runtime_error;
+};
+
+/// Read a whole events.txt. Blank lines and lines starting with '#' are skipped. Throws
+/// EventFileError naming the file and line on a malformed line, a negative pixel coordinate,
+/// a polarity other than 0/1, or a time that goes backwards.
+EventVector readEventsText(const std::string& path);
+EventVector readEventsText(std::istream& in, const std::string& name);
+
+/// Format one event as an events.txt line (no newline), time with 9 decimals.
+std::string formatEventLine(const Event& e);
+
+/// Write events as events.txt. Throws EventFileError when the file cannot be written.
+void writeEventsText(const std::string& path, const EventVector& events);
+void writeEventsText(std::ostream& out, const EventVector& events);
+
+/// Parse a decimal seconds string ("12.345678901", "-0.5", "3") into integer nanoseconds
+/// exactly (no floating-point rounding). Returns false when it is not a number.
+bool parseSecondsToNs(const char* begin, const char* end, int64_t& ns);
+}  // namespace dvs_driver

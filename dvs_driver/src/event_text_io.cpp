@@ -1,0 +1,182 @@
+#include <dvs_driver/event_text_io.h>
+
+#include <cinttypes>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+
+namespace dvs_driver
+{
+namespace
+{
+const char* skipSpace(const char* p, const char* end)
+{
+  while (p < end && (*p == ' ' || *p == '\t' || *p == '\r'))
+    ++p;
+  return p;
+}
+
+const char* tokenEnd(const char* p, const char* end)
+{
+  while (p < end && *p != ' ' && *p != '\t' && *p != '\r')
+    ++p;
+  return p;
+}
+
+bool parseInt(const char* b, const char* e, long& v)
+{
+  if (b == e)
+    return false;
+  bool neg = false;
+  if (*b == '-' || *b == '+')
+  {
+    neg = (*b == '-');
+    ++b;
+    if (b == e)
+      return false;
+  }
+  long r = 0;
+  for (; b < e; ++b)
+  {
+    if (*b < '0' || *b > '9' || r > 100000000L)
+      return false;
+    r = r * 10 + (*b - '0');
+  }
+  v = neg ? -r : r;
+  return true;
+}
+
+[[noreturn]] void fail(const std::string& name, size_t line, const std::string& what)
+{
+  throw EventFileError(name + ":" + std::to_string(line) + ": " + what);
+}
+}  // namespace
+
+bool parseSecondsToNs(const char* b, const char* e, int64_t& ns)
+{
+  if (b == e)
+    return false;
+  bool neg = false;
+  if (*b == '-' || *b == '+')
+  {
+    neg = (*b == '-');
+    ++b;
+  }
+  int64_t whole = 0;
+  int digits = 0;
+  for (; b < e && *b >= '0' && *b <= '9'; ++b, ++digits)
+  {
+    if (whole > 9000000000LL)  // > ~285 years: not a time stamp
+      return false;
+    whole = whole * 10 + (*b - '0');
+  }
+  int64_t frac = 0;
+  int frac_digits = 0;
+  if (b < e && *b == '.')
+  {
+    ++b;
+    for (; b < e && *b >= '0' && *b <= '9'; ++b)
+    {
+      if (frac_digits < 9)
+      {
+        frac = frac * 10 + (*b - '0');
+        ++frac_digits;
+      }
+      ++digits;
+    }
+  }
+  if (b != e || digits == 0)
+    return false;
+  for (int i = frac_digits; i < 9; ++i)
+    frac *= 10;
+  ns = whole * 1000000000LL + frac;
+  if (neg)
+    ns = -ns;
+  return true;
+}
+
+EventVector readEventsText(std::istream& in, const std::string& name)
+{
+  EventVector events;
+  std::string line;
+  size_t line_no = 0;
+  int64_t last_t = INT64_MIN;
+  while (std::getline(in, line))
+  {
+    ++line_no;
+    const char* p = line.data();
+    const char* end = p + line.size();
+    p = skipSpace(p, end);
+    if (p == end || *p == '#')
+      continue;
+    const char* tok[4];
+    const char* tok_end[4];
+    for (int i = 0; i < 4; ++i)
+    {
+      p = skipSpace(p, end);
+      if (p == end)
+        fail(name, line_no, "expected 4 fields `t x y p`, got " + std::to_string(i));
+      tok[i] = p;
+      p = tokenEnd(p, end);
+      tok_end[i] = p;
+    }
+    if (skipSpace(p, end) != end)
+      fail(name, line_no, "more than 4 fields (expected `t x y p`)");
+    Event ev;
+    if (!parseSecondsToNs(tok[0], tok_end[0], ev.t_ns))
+      fail(name, line_no, "time `" + std::string(tok[0], tok_end[0]) + "` is not a number of seconds");
+    long x, y, pol;
+    if (!parseInt(tok[1], tok_end[1], x) || !parseInt(tok[2], tok_end[2], y))
+      fail(name, line_no, "pixel coordinates must be integers");
+    if (x < 0 || y < 0 || x > 65535 || y > 65535)
+      fail(name, line_no, "pixel (" + std::to_string(x) + ", " + std::to_string(y) + ") out of range");
+    if (!parseInt(tok[3], tok_end[3], pol) || (pol != 0 && pol != 1))
+      fail(name, line_no, "polarity must be 0 or 1");
+    if (ev.t_ns < last_t)
+      fail(name, line_no, "time goes backwards (events.txt must be sorted by time)");
+    last_t = ev.t_ns;
+    ev.x = static_cast<uint16_t>(x);
+    ev.y = static_cast<uint16_t>(y);
+    ev.polarity = pol == 1;
+    events.push_back(ev);
+  }
+  if (in.bad())
+    throw EventFileError(name + ": read error");
+  return events;
+}
+
+EventVector readEventsText(const std::string& path)
+{
+  std::ifstream in(path);
+  if (!in)
+    throw EventFileError(path + ": cannot open events file: " + std::strerror(errno));
+  return readEventsText(in, path);
+}
+
+std::string formatEventLine(const Event& e)
+{
+  char buf[64];
+  const int64_t a = e.t_ns < 0 ? -e.t_ns : e.t_ns;
+  std::snprintf(buf, sizeof(buf), "%s%" PRId64 ".%09" PRId64 " %u %u %d", e.t_ns < 0 ? "-" : "",
+                a / 1000000000LL, a % 1000000000LL, e.x, e.y, e.polarity ? 1 : 0);
+  return buf;
+}
+
+void writeEventsText(std::ostream& out, const EventVector& events)
+{
+  for (const Event& e : events)
+    out << formatEventLine(e) << '\n';
+}
+
+void writeEventsText(const std::string& path, const EventVector& events)
+{
+  std::ofstream out(path);
+  if (!out)
+    throw EventFileError(path + ": cannot write events file: " + std::strerror(errno));
+  writeEventsText(out, events);
+  out.flush();
+  if (!out)
+    throw EventFileError(path + ": write failed");
+}
+}  // namespace dvs_driver
