@@ -39,5 +39,5 @@ if [ $build -eq 1 ]; then
   cd "$root"
   echo "setup: building (Release, -j2)"
   catkin_make --source . -DCMAKE_BUILD_TYPE=Release -DPYTHON_EXECUTABLE=/usr/bin/python3 \
-    -DCATKIN_ENABLE_TESTING=ON -j2
+    -DCATKIN_ENABLE_TESTING=ON -DCATKIN_WHITELIST_PACKAGES="" -j2
 fi
