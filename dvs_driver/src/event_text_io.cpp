@@ -159,7 +159,7 @@ std::string formatEventLine(const Event& e)
   char buf[64];
   const int64_t a = e.t_ns < 0 ? -e.t_ns : e.t_ns;
   std::snprintf(buf, sizeof(buf), "%s%" PRId64 ".%09" PRId64 " %u %u %d", e.t_ns < 0 ? "-" : "",
-                a / 1000000000LL, a % 1000000000LL, e.x, e.y, e.polarity ? 1 : 0);
+                static_cast<int64_t>(a / 1000000000), static_cast<int64_t>(a % 1000000000), e.x, e.y, e.polarity ? 1 : 0);
   return buf;
 }
 

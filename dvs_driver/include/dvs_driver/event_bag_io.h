@@ -1,0 +1,76 @@
+#pragma once
+// dvs_msgs/EventArray <-> dvs_driver events, and event bags (library dvs_driver_ros).
+//
+// Time: an Event's t_ns (int64 nanoseconds) maps to ros::Time {sec = t_ns / 1e9,
+// nsec = t_ns % 1e9} exactly, both ways. ros::Time cannot hold negative times or times past
+// 2106: converting such an event throws EventBagError naming the value.
+#include <dvs_driver/event.h>
+#include <dvs_driver/event_text_io.h>
+#include <dvs_msgs/EventArray.h>
+#include <ros/time.h>
+
+#include <string>
+
+namespace rosbag
+{
+class Bag;
+}
+
+namespace dvs_driver
+{
+/// Thrown for unreadable bags, a missing topic (the message lists the topics present), a topic
+/// of the wrong type, or times a ros::Time cannot represent.
+class EventBagError : public EventFileError
+{
+public:
+  using EventFileError::EventFileError;
+};
+
+/// The default event topic of the suite.
+constexpr const char* kDefaultEventTopic = "/dvs/events";
+/// The default packet period of written bags and of the driver: 1 ms.
+constexpr int64_t kDefaultPacketPeriodNs = 1000000;
+
+/// Exact ns -> ros::Time. Throws EventBagError for t_ns < 0 or t_ns >= 2^32 s.
+ros::Time nsToRosTime(int64_t t_ns);
+/// Exact ros::Time -> ns.
+inline int64_t rosTimeToNs(const ros::Time& t)
+{
+  return static_cast<int64_t>(t.sec) * 1000000000LL + static_cast<int64_t>(t.nsec);
+}
+
+/// Append events [begin, end) to msg.events (reserves, never shrinks). Header and size untouched.
+void appendToMessage(const Event* begin, const Event* end, dvs_msgs::EventArray& msg);
+
+/// A complete message: events, width, height, header.stamp = time of the last event (zero time
+/// for an empty range), header.frame_id = frame_id.
+dvs_msgs::EventArrayPtr toMessage(const Event* begin, const Event* end, uint32_t width, uint32_t height,
+                                  const std::string& frame_id = "dvs");
+dvs_msgs::EventArrayPtr toMessage(const EventStream& stream, const std::string& frame_id = "dvs");
+
+/// Append the events of msg to out (exact ns times).
+void appendFromMessage(const dvs_msgs::EventArray& msg, EventVector& out);
+/// The events of msg plus its sensor size.
+EventStream fromMessage(const dvs_msgs::EventArray& msg);
+
+/// Read every dvs_msgs/EventArray on `topic` of the bag, in bag order, into one stream. The
+/// sensor size is that of the first message with a non-zero size. Throws EventBagError on a
+/// missing/unreadable file, a missing topic (listing the topics present with their types), or a
+/// topic of another type.
+EventStream readEventsBag(const std::string& path, const std::string& topic = kDefaultEventTopic);
+
+/// Write events (sorted by time) to an open bag on `topic`, split into fixed-period packets:
+/// packet k holds the events with floor(t_ns / packet_period_ns) == k (periods aligned to
+/// multiples of the period in absolute time; empty periods produce no message). Each message's
+/// header.stamp AND its bag record time = the time of the packet's LAST event (what a live
+/// driver knows when it sends the packet). Returns the number of messages written. Throws
+/// EventBagError for packet_period_ns <= 0, times a ros::Time cannot hold, or events that go
+/// backwards in time.
+size_t writeEventsBag(rosbag::Bag& bag, const std::string& topic, const EventVector& events, uint32_t width,
+                      uint32_t height, int64_t packet_period_ns = kDefaultPacketPeriodNs,
+                      const std::string& frame_id = "dvs");
+
+/// Convenience: create (overwrite) `path` and write `stream` as above.
+size_t writeEventsBag(const std::string& path, const std::string& topic, const EventStream& stream,
+                      int64_t packet_period_ns = kDefaultPacketPeriodNs, const std::string& frame_id = "dvs");
+}  // namespace dvs_driver

@@ -1,0 +1,209 @@
+#include <dvs_driver/aedat_reader.h>
+#include <dvs_driver/dvs128_decoder.h>
+
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <vector>
+
+namespace dvs_driver
+{
+namespace
+{
+inline uint32_t be32(const uint8_t* p)
+{
+  return (uint32_t(p[0]) << 24) | (uint32_t(p[1]) << 16) | (uint32_t(p[2]) << 8) | uint32_t(p[3]);
+}
+
+// A header line: '#', then text (tab or >= 0x20, UTF-8 bytes allowed), ending in "\n".
+// Returns the offset just past the line, or 0 when [pos, size) does not start with one.
+size_t headerLineEnd(const uint8_t* data, size_t size, size_t pos)
+{
+  if (pos >= size || data[pos] != '#')
+    return 0;
+  for (size_t i = pos + 1; i < size; ++i)
+  {
+    const uint8_t c = data[i];
+    if (c == '\n')
+      return i + 1;
+    if (c < 0x20 && c != '\t' && c != '\r')
+      return 0;
+  }
+  return 0;
+}
+
+std::string lineText(const uint8_t* data, size_t begin, size_t end)
+{
+  while (end > begin && (data[end - 1] == '\n' || data[end - 1] == '\r'))
+    --end;
+  return std::string(reinterpret_cast<const char*>(data + begin), end - begin);
+}
+}  // namespace
+
+size_t findAedatDataOffset(const uint8_t* data, size_t size)
+{
+  size_t pos = 0;
+  while (true)
+  {
+    const size_t end = headerLineEnd(data, size, pos);
+    if (end == 0)
+      return pos;
+    const std::string line = lineText(data, pos, end);
+    pos = end;
+    if (line.rfind("#End Of ASCII Header", 0) == 0)
+      return pos;
+  }
+}
+
+AedatRecording readAedat(const uint8_t* data, size_t size, const std::string& name)
+{
+  static const char kMagic[] = "#!AER-DAT";
+  if (size < sizeof(kMagic) - 1 || std::memcmp(data, kMagic, sizeof(kMagic) - 1) != 0)
+    throw AedatError(name + ": not an AEDAT file (it does not start with `#!AER-DAT`)");
+  const size_t first_end = headerLineEnd(data, size, 0);
+  const std::string first = first_end ? lineText(data, 0, first_end) : std::string();
+  if (first != "#!AER-DAT2.0")
+    throw AedatError(name + ": unsupported AEDAT version `" + first.substr(0, 40) + "` (only #!AER-DAT2.0 is read)");
+
+  AedatRecording rec;
+  AedatInfo& info = rec.info;
+  info.data_offset = findAedatDataOffset(data, size);
+
+  // Sensor: from the `# AEChip:` line, else the HardwareInterface line, else DVS128 if every
+  // address fits the DVS128's 16 bits.
+  std::string hw;
+  for (size_t pos = 0; pos < info.data_offset;)
+  {
+    const size_t end = headerLineEnd(data, size, pos);
+    const std::string line = lineText(data, pos, end);
+    pos = end;
+    if (line.rfind("# AEChip:", 0) == 0)
+      info.ae_chip = line.substr(line.find_first_not_of(' ', 9) == std::string::npos ? line.size()
+                                                                                          : line.find_first_not_of(' ', 9));
+    else if (line.rfind("# HardwareInterface:", 0) == 0)
+      hw = line;
+  }
+  const uint8_t* records = data + info.data_offset;
+  const size_t record_bytes = size - info.data_offset;
+  info.records = record_bytes / 8;
+  info.truncated_bytes = record_bytes % 8;
+  const std::string chip = info.ae_chip.empty() ? hw : info.ae_chip;
+  if (chip.find("DAVIS346") != std::string::npos)
+    info.sensor = AedatSensor::DAVIS346;
+  else if (chip.find("DAVIS240") != std::string::npos)
+    info.sensor = AedatSensor::DAVIS240;
+  else if (chip.find("DVS128") != std::string::npos)
+    info.sensor = AedatSensor::DVS128;
+  else
+  {
+    for (uint64_t i = 0; i < info.records; ++i)
+      if (be32(records + 8 * i) > 0xFFFFu)
+        throw AedatError(name + ": cannot tell the sensor: no `# AEChip:` header line names DVS128, DAVIS240 "
+                                "or DAVIS346, and addresses exceed the DVS128's 16 bits (AEChip: `" +
+                         info.ae_chip + "`)");
+    info.sensor = AedatSensor::DVS128;
+  }
+  EventStream& stream = rec.stream;
+  switch (info.sensor)
+  {
+    case AedatSensor::DVS128:
+      info.sensor_name = "DVS128";
+      stream.width = 128;
+      stream.height = 128;
+      break;
+    case AedatSensor::DAVIS240:
+      info.sensor_name = "DAVIS240";
+      stream.width = 240;
+      stream.height = 180;
+      break;
+    case AedatSensor::DAVIS346:
+      info.sensor_name = "DAVIS346";
+      stream.width = 346;
+      stream.height = 260;
+      break;
+  }
+
+  stream.events.reserve(info.records);
+  const bool dvs128 = info.sensor == AedatSensor::DVS128;
+  const uint32_t W = stream.width, H = stream.height;
+  int64_t wrap_offset = 0;
+  int32_t last_raw = 0;
+  int64_t last_t_us = INT64_MIN;
+  for (uint64_t i = 0; i < info.records; ++i)
+  {
+    const uint8_t* r = records + 8 * i;
+    const uint32_t addr = be32(r);
+    const int32_t ts = static_cast<int32_t>(be32(r + 4));
+    // Unwrap int32 overflow: a jump back by more than half the range is a wrap, not disorder.
+    if (i > 0 && static_cast<int64_t>(ts) - last_raw < -(int64_t(1) << 31))
+    {
+      wrap_offset += int64_t(1) << 32;
+      ++info.timestamp_wraps;
+    }
+    last_raw = ts;
+    Event e;
+    if (dvs128)
+    {
+      if (addr > 0xFFFFu)
+      {
+        ++info.out_of_range;
+        continue;
+      }
+      if (!decodeDvs128Address(addr, e.x, e.y, e.polarity))
+      {
+        ++info.sync_events;
+        continue;
+      }
+    }
+    else
+    {
+      if (addr & 0x80000000u)
+      {
+        if ((addr & 0x80000C00u) == 0x80000C00u)
+          ++info.imu_samples;
+        else
+          ++info.aps_samples;
+        continue;
+      }
+      if (addr & 0x400u)
+      {
+        ++info.sync_events;
+        continue;
+      }
+      const uint32_t y_up = (addr >> 22) & 0x1FFu;
+      const uint32_t raw_x = (addr >> 12) & 0x3FFu;
+      if (raw_x >= W || y_up >= H)
+      {
+        ++info.out_of_range;
+        continue;
+      }
+      e.x = static_cast<uint16_t>(W - 1 - raw_x);
+      e.y = static_cast<uint16_t>(H - 1 - y_up);
+      e.polarity = (addr >> 11) & 1u;
+    }
+    int64_t t_us = wrap_offset + ts;
+    if (t_us < last_t_us)
+    {
+      ++info.non_monotonic;
+      t_us = last_t_us;
+    }
+    last_t_us = t_us;
+    e.t_ns = t_us * 1000;
+    stream.events.push_back(e);
+  }
+  info.dvs_events = stream.events.size();
+  return rec;
+}
+
+AedatRecording readAedat(const std::string& path)
+{
+  std::ifstream in(path, std::ios::binary);
+  if (!in)
+    throw AedatError(path + ": cannot open AEDAT file: " + std::strerror(errno));
+  std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (in.bad())
+    throw AedatError(path + ": read error");
+  return readAedat(bytes.data(), bytes.size(), path);
+}
+}  // namespace dvs_driver

@@ -1,0 +1,206 @@
+#include <dvs_driver/event_bag_io.h>
+
+#include <rosbag/bag.h>
+#include <rosbag/view.h>
+
+#include <map>
+#include <sys/stat.h>
+
+namespace dvs_driver
+{
+namespace
+{
+constexpr int64_t kNsPerSec = 1000000000LL;
+}
+
+ros::Time nsToRosTime(int64_t t_ns)
+{
+  if (t_ns < 0 || t_ns / kNsPerSec > static_cast<int64_t>(UINT32_MAX))
+    throw EventBagError("time " + std::to_string(t_ns) +
+                        " ns cannot be stored as a ros::Time (must be in [0, 2^32) s); shift the time stamps first");
+  ros::Time t;
+  t.sec = static_cast<uint32_t>(t_ns / kNsPerSec);
+  t.nsec = static_cast<uint32_t>(t_ns % kNsPerSec);
+  return t;
+}
+
+void appendToMessage(const Event* begin, const Event* end, dvs_msgs::EventArray& msg)
+{
+  const size_t old = msg.events.size();
+  msg.events.resize(old + static_cast<size_t>(end - begin));
+  dvs_msgs::Event* out = msg.events.data() + old;
+  for (const Event* e = begin; e != end; ++e, ++out)
+  {
+    out->x = e->x;
+    out->y = e->y;
+    out->ts = nsToRosTime(e->t_ns);
+    out->polarity = e->polarity;
+  }
+}
+
+dvs_msgs::EventArrayPtr toMessage(const Event* begin, const Event* end, uint32_t width, uint32_t height,
+                                  const std::string& frame_id)
+{
+  dvs_msgs::EventArrayPtr msg(new dvs_msgs::EventArray);
+  msg->width = width;
+  msg->height = height;
+  msg->header.frame_id = frame_id;
+  appendToMessage(begin, end, *msg);
+  if (begin != end)
+    msg->header.stamp = msg->events.back().ts;
+  return msg;
+}
+
+dvs_msgs::EventArrayPtr toMessage(const EventStream& stream, const std::string& frame_id)
+{
+  const Event* b = stream.events.data();
+  return toMessage(b, b + stream.events.size(), stream.width, stream.height, frame_id);
+}
+
+void appendFromMessage(const dvs_msgs::EventArray& msg, EventVector& out)
+{
+  const size_t old = out.size();
+  out.resize(old + msg.events.size());
+  Event* o = out.data() + old;
+  for (const dvs_msgs::Event& e : msg.events)
+  {
+    o->t_ns = rosTimeToNs(e.ts);
+    o->x = e.x;
+    o->y = e.y;
+    o->polarity = e.polarity;
+    ++o;
+  }
+}
+
+EventStream fromMessage(const dvs_msgs::EventArray& msg)
+{
+  EventStream s;
+  s.width = msg.width;
+  s.height = msg.height;
+  appendFromMessage(msg, s.events);
+  return s;
+}
+
+EventStream readEventsBag(const std::string& path, const std::string& topic)
+{
+  struct stat st;
+  if (::stat(path.c_str(), &st) != 0)
+    throw EventBagError(path + ": bag file does not exist");
+  rosbag::Bag bag;
+  try
+  {
+    bag.open(path, rosbag::bagmode::Read);
+  }
+  catch (const rosbag::BagException& e)
+  {
+    throw EventBagError(path + ": cannot open bag: " + e.what());
+  }
+  EventStream stream;
+  try
+  {
+    rosbag::View all(bag);
+    std::map<std::string, std::string> topics;
+    const std::string want_type = ros::message_traits::DataType<dvs_msgs::EventArray>::value();
+    bool found = false;
+    for (const rosbag::ConnectionInfo* c : all.getConnections())
+    {
+      topics[c->topic] = c->datatype;
+      if (c->topic == topic)
+      {
+        found = true;
+        if (c->datatype != want_type)
+          throw EventBagError(path + ": topic " + topic + " has type " + c->datatype + ", expected " + want_type);
+        if (c->md5sum != ros::message_traits::MD5Sum<dvs_msgs::EventArray>::value())
+          throw EventBagError(path + ": topic " + topic + " has MD5 sum " + c->md5sum +
+                              ", not that of dvs_msgs/EventArray (" +
+                              ros::message_traits::MD5Sum<dvs_msgs::EventArray>::value() + ")");
+      }
+    }
+    if (!found)
+    {
+      std::string list;
+      for (const auto& kv : topics)
+        list += (list.empty() ? "" : ", ") + kv.first + " [" + kv.second + "]";
+      throw EventBagError(path + ": no topic " + topic + " in the bag; topics present: " +
+                          (list.empty() ? std::string("(none)") : list));
+    }
+    rosbag::View view(bag, rosbag::TopicQuery(topic));
+    size_t n = 0;
+    for (const rosbag::MessageInstance& m : view)
+    {
+      dvs_msgs::EventArrayConstPtr msg = m.instantiate<dvs_msgs::EventArray>();
+      if (!msg)
+        continue;
+      if (stream.width == 0 && stream.height == 0)
+      {
+        stream.width = msg->width;
+        stream.height = msg->height;
+      }
+      if (n == 0)
+        stream.events.reserve(view.size() * msg->events.size());
+      appendFromMessage(*msg, stream.events);
+      ++n;
+    }
+  }
+  catch (const rosbag::BagException& e)
+  {
+    throw EventBagError(path + ": error reading bag: " + e.what());
+  }
+  return stream;
+}
+
+size_t writeEventsBag(rosbag::Bag& bag, const std::string& topic, const EventVector& events, uint32_t width,
+                      uint32_t height, int64_t packet_period_ns, const std::string& frame_id)
+{
+  if (packet_period_ns <= 0)
+    throw EventBagError("packet period must be > 0 ns, got " + std::to_string(packet_period_ns));
+  size_t written = 0;
+  size_t i = 0;
+  dvs_msgs::EventArray msg;
+  msg.width = width;
+  msg.height = height;
+  msg.header.frame_id = frame_id;
+  while (i < events.size())
+  {
+    if (events[i].t_ns < 0)
+      nsToRosTime(events[i].t_ns);  // throws with a clear message
+    const int64_t period = events[i].t_ns / packet_period_ns;
+    size_t j = i + 1;
+    while (j < events.size() && events[j].t_ns / packet_period_ns == period)
+    {
+      if (events[j].t_ns < events[j - 1].t_ns)
+        throw EventBagError("event " + std::to_string(j) + " goes back in time (" + std::to_string(events[j].t_ns) +
+                            " ns after " + std::to_string(events[j - 1].t_ns) + " ns)");
+      ++j;
+    }
+    if (j < events.size() && events[j].t_ns < events[j - 1].t_ns)
+      throw EventBagError("event " + std::to_string(j) + " goes back in time (" + std::to_string(events[j].t_ns) +
+                          " ns after " + std::to_string(events[j - 1].t_ns) + " ns)");
+    msg.events.clear();
+    appendToMessage(events.data() + i, events.data() + j, msg);
+    msg.header.stamp = msg.events.back().ts;
+    ++msg.header.seq;
+    bag.write(topic, msg.header.stamp, msg);
+    ++written;
+    i = j;
+  }
+  return written;
+}
+
+size_t writeEventsBag(const std::string& path, const std::string& topic, const EventStream& stream,
+                      int64_t packet_period_ns, const std::string& frame_id)
+{
+  rosbag::Bag bag;
+  try
+  {
+    bag.open(path, rosbag::bagmode::Write);
+  }
+  catch (const rosbag::BagException& e)
+  {
+    throw EventBagError(path + ": cannot create bag: " + e.what());
+  }
+  const size_t n = writeEventsBag(bag, topic, stream.events, stream.width, stream.height, packet_period_ns, frame_id);
+  bag.close();
+  return n;
+}
+}  // namespace dvs_driver

@@ -1,0 +1,75 @@
+#include <dvs_driver/event_file.h>
+#include <dvs_driver/event_text_io.h>
+
+#include <algorithm>
+
+namespace dvs_driver
+{
+namespace
+{
+bool endsWith(const std::string& s, const std::string& suffix)
+{
+  if (s.size() < suffix.size())
+    return false;
+  return std::equal(suffix.rbegin(), suffix.rend(), s.rbegin(),
+                    [](char a, char b) { return std::tolower(a) == std::tolower(b); });
+}
+}  // namespace
+
+EventFileFormat eventFileFormat(const std::string& path)
+{
+  if (endsWith(path, ".aedat") || endsWith(path, ".dat"))
+    return EventFileFormat::Aedat;
+  if (endsWith(path, ".bag"))
+    return EventFileFormat::Bag;
+  return EventFileFormat::Text;
+}
+
+EventFileContents readEventFile(const std::string& path)
+{
+  EventFileContents out;
+  switch (eventFileFormat(path))
+  {
+    case EventFileFormat::Aedat:
+    {
+      AedatRecording rec = readAedat(path);
+      out.stream = std::move(rec.stream);
+      out.sensor_name = rec.info.sensor_name;
+      out.skipped = rec.info.skippedRecords();
+      out.truncated_bytes = rec.info.truncated_bytes;
+      break;
+    }
+    case EventFileFormat::Text:
+      out.stream.events = readEventsText(path);
+      break;
+    case EventFileFormat::Bag:
+      throw EventFileError(path + ": bags are read with dvs_driver::readEventsBag (library dvs_driver_ros)");
+  }
+  return out;
+}
+
+std::string inferSensorSize(const EventVector& events, uint32_t& width, uint32_t& height)
+{
+  uint32_t max_x = 0, max_y = 0;
+  for (const Event& e : events)
+  {
+    max_x = std::max<uint32_t>(max_x, e.x);
+    max_y = std::max<uint32_t>(max_y, e.y);
+  }
+  struct Known
+  {
+    const char* name;
+    uint32_t w, h;
+  } known[] = {{"DVS128", 128, 128}, {"DAVIS240", 240, 180}, {"DAVIS346", 346, 260}};
+  for (const Known& k : known)
+    if (max_x < k.w && max_y < k.h)
+    {
+      width = k.w;
+      height = k.h;
+      return k.name;
+    }
+  width = max_x + 1;
+  height = max_y + 1;
+  return "";
+}
+}  // namespace dvs_driver
