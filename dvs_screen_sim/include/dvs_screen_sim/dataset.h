@@ -1,0 +1,59 @@
+#pragma once
+// Running a whole simulation offline and writing its dataset folder:
+//   events.txt       t x y p (Event Camera Dataset layout, sorted)
+//   groundtruth.txt  t px py pz qx qy qz qw (T_world_cam at groundtruth_rate, same time base)
+//   calib.txt        fx fy cx cy k1 k2 p1 p2 k3
+//   camera_info.yaml the same camera as ROS camera_info YAML
+//   map.yaml         the tracker's line map (every edge of every in-map polygon, with `up`)
+//   config.yaml      the full resolved configuration (re-running with it reproduces the data)
+// Times: simulation time t (starting at 0) + time_offset (default 0), in seconds.
+#include <dvs_driver/event.h>
+#include <dvs_screen_sim/event_simulator.h>
+#include <dvs_screen_sim/pose.h>
+#include <dvs_screen_sim/sim_config.h>
+
+#include <fstream>
+#include <functional>
+#include <string>
+
+namespace dvs_screen_sim
+{
+struct SimulationOutput
+{
+  dvs_driver::EventVector events;  ///< all events (empty when they were streamed to a sink)
+  uint64_t event_count = 0;
+  PoseTrajectory groundtruth;      ///< times include the offset
+  SimulationStats stats;
+  double cpu_seconds = 0;          ///< process CPU time spent in the event simulation
+};
+
+/// Receives the events of a simulation chunk by chunk, in time order.
+using EventChunkSink = std::function<void(const dvs_driver::EventVector& chunk)>;
+
+/// Simulate config.duration seconds of config.scenario. Without a sink the events are returned
+/// in output.events; with one they are streamed to it in chunks of ~0.1 s whose boundaries are
+/// multiples of config.packet_period in absolute time (so no event packet spans two chunks) and
+/// memory stays bounded.
+SimulationOutput runSimulation(const SimConfig& config, const EventChunkSink& sink = EventChunkSink());
+
+/// Write the dataset folder (created when missing): events.txt from output.events plus
+/// everything writeDatasetWithoutEvents writes. Throws std::runtime_error naming the file.
+void writeDataset(const std::string& dir, const SimConfig& config, const SimulationOutput& output);
+/// groundtruth.txt, calib.txt, camera_info.yaml, map.yaml, config.yaml (creates the folder).
+void writeDatasetWithoutEvents(const std::string& dir, const SimConfig& config, const PoseTrajectory& groundtruth);
+
+/// events.txt written chunk by chunk (for streaming sinks).
+class EventsTextStream
+{
+public:
+  /// Creates the file; throws std::runtime_error naming it.
+  explicit EventsTextStream(const std::string& path);
+  void write(const dvs_driver::EventVector& chunk);
+  /// Flushes and checks; throws std::runtime_error on a write error.
+  void close();
+
+private:
+  std::string path_;
+  std::ofstream out_;
+};
+}  // namespace dvs_screen_sim

@@ -1,0 +1,134 @@
+#include <dvs_driver/event_bag_io.h>
+#include <dvs_screen_sim/ros_conversions.h>
+#include <dvs_screen_sim/simulator_ros.h>
+
+#include <dvs_msgs/EventArray.h>
+
+#include <chrono>
+
+namespace dvs_screen_sim
+{
+SimulatorRos::SimulatorRos(ros::NodeHandle nh, ros::NodeHandle pnh) : nh_(nh), pnh_(pnh)
+{
+  std::string scenario, config_file;
+  int seed = 0;
+  double duration = 0, packet_period = 0;
+  pnh_.param<std::string>("scenario", scenario, "flip");
+  pnh_.param<std::string>("config_file", config_file, "");
+  pnh_.param("seed", seed, 0);
+  pnh_.param("duration", duration, 0.0);
+  pnh_.param("real_time_factor", real_time_factor_, 1.0);
+  pnh_.param("loop", loop_, false);
+  pnh_.param("packet_period", packet_period, 0.001);
+  pnh_.param("wall_clock_stamps", wall_clock_stamps_, true);
+  pnh_.param<std::string>("world_frame", world_frame_, "world");
+  pnh_.param<std::string>("camera_frame", camera_frame_, "dvs");
+  pnh_.param<std::string>("ground_truth_frame", gt_frame_, "dvs_gt");
+  if (seed < 0)
+    throw std::invalid_argument("parameter ~seed must be >= 0");
+  if (duration < 0)
+    throw std::invalid_argument("parameter ~duration must be >= 0 (0: the scenario's length)");
+  if (!(real_time_factor_ >= 0))
+    throw std::invalid_argument("parameter ~real_time_factor must be >= 0 (0: as fast as possible)");
+  if (!(packet_period > 0))
+    throw std::invalid_argument("parameter ~packet_period must be > 0");
+  if (world_frame_.empty() || camera_frame_.empty() || gt_frame_.empty())
+    throw std::invalid_argument("parameters ~world_frame, ~camera_frame, ~ground_truth_frame must not be empty");
+  config_ = resolveSimConfigFile(scenario, config_file, static_cast<uint64_t>(seed),
+                                 duration > 0 ? std::optional<double>(duration) : std::nullopt);
+  config_.packet_period = packet_period;
+  events_pub_ = nh_.advertise<dvs_msgs::EventArray>("dvs/events", 100);
+  info_pub_ = nh_.advertise<sensor_msgs::CameraInfo>("dvs/camera_info", 1, true);
+  pose_pub_ = nh_.advertise<geometry_msgs::PoseStamped>("dvs/ground_truth/pose", 100);
+  map_pub_ = nh_.advertise<visualization_msgs::MarkerArray>("dvs/ground_truth/map", 1, true);
+  tf_ = std::make_unique<tf2_ros::TransformBroadcaster>();
+  ROS_INFO("dvs_screen_sim: scenario %s, %.3f s, %dx%d, real_time_factor %.2f%s", scenario.c_str(),
+           config_.duration, config_.camera.width(), config_.camera.height(), real_time_factor_,
+           loop_ ? ", looping" : "");
+  thread_ = std::thread(&SimulatorRos::run, this);
+}
+
+SimulatorRos::~SimulatorRos()
+{
+  stop_ = true;
+  if (thread_.joinable())
+    thread_.join();
+}
+
+void SimulatorRos::run()
+{
+  try
+  {
+    runLoop();
+  }
+  catch (const std::exception& e)
+  {
+    // ROS shutting down under a publisher, or a runtime error: end the thread, never terminate().
+    if (!stop_ && !ros::isShuttingDown())
+      ROS_ERROR("dvs_screen_sim: simulation stopped: %s", e.what());
+  }
+}
+
+void SimulatorRos::runLoop()
+{
+  const auto trajectory = makeTrajectory(config_);
+  EventSimulator sim(config_.camera, config_.scene, config_.events, config_.sampling, config_.seed);
+  const int64_t period_ns = static_cast<int64_t>(std::llround(config_.packet_period * 1e9));
+  const double gt_period = 1.0 / config_.groundtruth_rate;
+  sensor_msgs::CameraInfo info = toCameraInfo(config_.camera, camera_frame_);
+  dvs_driver::EventVector buffer;
+  do
+  {
+    // Time base of this run: wall clock at start, or the configured offset.
+    const ros::Time base = wall_clock_stamps_ ? ros::Time::now() : secondsToRosTime(0.0);
+    const int64_t base_ns = dvs_driver::rosTimeToNs(base) + config_.time_offset_ns;
+    map_pub_.publish(mapMarkers(config_.scene, base, world_frame_));
+    sim.start(*trajectory, 0.0, base_ns);
+    const auto wall_start = std::chrono::steady_clock::now();
+    long gt_index = 0;
+    double next_info = 0.0;
+    for (int64_t k = 1; !stop_ && ros::ok() && !ros::isShuttingDown(); ++k)
+    {
+      const double t = std::min(config_.duration, static_cast<double>(k * period_ns) * 1e-9);
+      buffer.clear();
+      sim.advanceTo(t, buffer);
+      if (t >= config_.duration)
+        sim.flush(buffer);
+      if (real_time_factor_ > 0)
+        std::this_thread::sleep_until(wall_start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                                       std::chrono::duration<double>(t / real_time_factor_)));
+      if (!buffer.empty())
+      {
+        auto msg = dvs_driver::toMessage(buffer.data(), buffer.data() + buffer.size(),
+                                         static_cast<uint32_t>(config_.camera.width()),
+                                         static_cast<uint32_t>(config_.camera.height()), camera_frame_);
+        events_pub_.publish(msg);
+      }
+      for (; gt_index * gt_period <= t + 1e-12; ++gt_index)
+      {
+        const double tg = gt_index * gt_period;
+        StampedPose sp{static_cast<double>(base_ns) * 1e-9 + tg, trajectory->poseAt(tg)};
+        // Exact stamps: base (ns) + tg rounded to ns.
+        const int64_t stamp_ns = base_ns + static_cast<int64_t>(std::llround(tg * 1e9));
+        geometry_msgs::PoseStamped pose = toPoseStamped(sp, world_frame_);
+        pose.header.stamp = dvs_driver::nsToRosTime(stamp_ns);
+        pose_pub_.publish(pose);
+        geometry_msgs::TransformStamped tf = toTransform(sp, world_frame_, gt_frame_);
+        tf.header.stamp = pose.header.stamp;
+        tf_->sendTransform(tf);
+      }
+      if (t >= next_info)
+      {
+        info.header.stamp = dvs_driver::nsToRosTime(base_ns + static_cast<int64_t>(std::llround(t * 1e9)));
+        info_pub_.publish(info);
+        next_info += 0.1;
+      }
+      if (t >= config_.duration)
+        break;
+    }
+    if (!stop_ && ros::ok() && !ros::isShuttingDown())
+      ROS_INFO("dvs_screen_sim: finished %.3f s of %s (%llu events)", config_.duration, config_.scenario.c_str(),
+               static_cast<unsigned long long>(sim.stats().signal_events + sim.stats().noise_events));
+  } while (loop_ && !stop_ && ros::ok() && !ros::isShuttingDown());
+}
+}  // namespace dvs_screen_sim

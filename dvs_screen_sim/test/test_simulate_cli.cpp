@@ -1,0 +1,57 @@
+// The `simulate` command line (other packages' tests depend on exactly this interface).
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+namespace
+{
+int run(const std::string& args)
+{
+  const std::string cmd = std::string(SIMULATE_EXECUTABLE) + " " + args + " > /dev/null 2>&1";
+  const int status = std::system(cmd.c_str());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+std::string tempDir(const std::string& name)
+{
+  const auto dir = std::filesystem::temp_directory_path() / ("dvs_screen_sim_cli_" + name + "_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  return dir.string();
+}
+}  // namespace
+
+TEST(SimulateCli, WritesTheDatasetFolderAndTheBag)
+{
+  const std::string dir = tempDir("ok");
+  ASSERT_EQ(run("--scenario helix --out " + dir + " --seed 3 --duration 0.05 --bag"), 0);
+  for (const char* f : {"events.txt", "groundtruth.txt", "calib.txt", "map.yaml", "config.yaml", "events.bag"})
+    EXPECT_TRUE(std::filesystem::exists(dir + "/" + f)) << f;
+  std::ifstream gt(dir + "/groundtruth.txt");
+  std::string line;
+  int lines = 0;
+  while (std::getline(gt, line))
+    lines += !line.empty() && line[0] != '#';
+  EXPECT_EQ(lines, 51);  // 1 kHz over 0.05 s
+  std::filesystem::remove_all(dir);
+}
+
+TEST(SimulateCli, RejectsBadArgumentsAndConfigurations)
+{
+  const std::string dir = tempDir("bad");
+  EXPECT_EQ(run("--scenario flip"), 2);                                   // no --out
+  EXPECT_EQ(run("--scenario flip --out " + dir + " --seed -4"), 2);       // bad seed
+  EXPECT_EQ(run("--scenario flip --out " + dir + " --duration zero"), 2);
+  EXPECT_EQ(run("--scenario flip --out " + dir + " --frobnicate"), 2);
+  EXPECT_EQ(run("--scenario spiral --out " + dir), 1);                    // unknown scenario
+  EXPECT_EQ(run("--scenario flip --out " + dir + " --config /nonexistent.yaml"), 1);
+  const std::string cfg = dir + ".yaml";
+  std::ofstream(cfg) << "events: {threshold_on: -0.2}\n";
+  EXPECT_EQ(run("--scenario flip --out " + dir + " --config " + cfg), 1);
+  std::filesystem::remove(cfg);
+  std::filesystem::remove_all(dir);
+}
