@@ -260,7 +260,7 @@ void EventSimulator::step(double t_next)
   ++mark_;
   band_now_.clear();
   renderer_.appendEdgePixels(band_now_, marks_, mark_);
-  if (intensity_changed || renderer_.hasImages())
+  if (intensity_changed || renderer_.imagesChanged())
   {
     const int32_t n = width_ * height_;
     for (int32_t idx = 0; idx < n; ++idx)

@@ -164,6 +164,10 @@ void SceneRenderer::addVisibleEdgePoints(const std::vector<Eigen::Vector2d>& out
 
 void SceneRenderer::setState(const Pose& T_world_cam, double t)
 {
+  // Images change the picture everywhere when the camera moves, their gain changes or their
+  // content is refreshed; otherwise their pixels keep their intensities.
+  images_changed_ = !has_state_ || T_world_cam.p != T_world_cam_.p || T_world_cam.q.coeffs() != T_world_cam_.q.coeffs();
+  has_state_ = true;
   T_world_cam_ = T_world_cam;
   time_ = t;
   background_ = scene_.background_reflectance;
@@ -197,7 +201,10 @@ void SceneRenderer::setState(const Pose& T_world_cam, double t)
   {
     auto& im = scene_.images[k];
     auto& pi = projected_images_[k];
-    pi.gain = im.gainAt(t);
+    const double gain = im.gainAt(t);
+    if (gain != pi.gain)
+      images_changed_ = true;
+    pi.gain = gain;
     if (im.update_period > 0)
     {
       const auto frame = static_cast<int64_t>(std::floor(t / im.update_period + 1e-9));
@@ -207,6 +214,7 @@ void SceneRenderer::setState(const Pose& T_world_cam, double t)
         if (im.texels.size() != static_cast<size_t>(im.width) * im.height)
           throw SceneError("scene image '" + im.name + "': update changed the number of texels");
         pi.frame = frame;
+        images_changed_ = true;
       }
     }
     const Eigen::Vector2d tl = im.top_left;

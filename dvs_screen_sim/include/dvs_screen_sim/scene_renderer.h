@@ -53,6 +53,10 @@ public:
   /// True when the scene has images: their content moves everywhere, not only at edges, so
   /// every pixel must be re-evaluated at every sample.
   bool hasImages() const { return !scene_.images.empty(); }
+  /// True when the images' contribution to some pixel may differ from the previous setState()
+  /// (the camera moved, an image's gain changed or its content was refreshed). A still camera
+  /// filming a monitor then re-evaluates every pixel only at the refreshes.
+  bool imagesChanged() const { return hasImages() && images_changed_; }
   const dvs_calibration::CameraModel& camera() const { return camera_; }
   const Scene& scene() const { return scene_; }
   int width() const { return width_; }
@@ -98,6 +102,8 @@ private:
   Eigen::Vector2d view_lo_, view_hi_;     ///< normalized bounds of the sensor (+ margin)
   double px_per_normalized_;              ///< ~fx, for subdivision lengths
   Pose T_world_cam_;
+  bool has_state_ = false;
+  bool images_changed_ = true;
   double time_ = 0;
   double background_ = 0;
   std::vector<ProjectedPolygon> projected_;

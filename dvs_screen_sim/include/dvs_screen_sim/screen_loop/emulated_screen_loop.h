@@ -1,0 +1,89 @@
+#pragma once
+// The whole screen-in-the-loop procedure with the software DVS standing in for the real one
+// (issue 7's "verification without hardware", and a way to make "screen in the loop" datasets
+// without a sensor): the OpenGL window, read back every refresh, is a virtual monitor on the
+// wall of dvs_screen_sim's world, filmed by the software DVS at a misaligned pose.
+//   1. align():   the blinking circle grid, detected in the events -> H (Eq. 3.11-3.14)
+//   2. showLines(): a blinking line grid through the corrected (or uncorrected) pipeline
+//   3. playTrajectory(): the virtual scene along a trajectory, slowed by a time scale; the
+//      events' time stamps are mapped back to trajectory time.
+// Simulated time only advances (one EventSimulator); the screen switches content at refreshes.
+#include <dvs_calibration/camera_model.h>
+#include <dvs_driver/event.h>
+#include <dvs_screen_sim/event_simulator.h>
+#include <dvs_screen_sim/scene.h>
+#include <dvs_screen_sim/screen_loop/gl_screen_renderer.h>
+#include <dvs_screen_sim/screen_loop/grid_alignment.h>
+#include <dvs_screen_sim/screen_loop/line_grid_check.h>
+#include <dvs_screen_sim/screen_loop/screen_timing.h>
+#include <dvs_screen_sim/screen_loop/virtual_monitor.h>
+#include <dvs_screen_sim/trajectory.h>
+
+#include <memory>
+
+namespace dvs_screen_sim
+{
+namespace screen_loop
+{
+struct EmulationConfig
+{
+  dvs_calibration::CameraModel camera;       ///< the (software) DVS, also used for the pipeline
+  Pose T_wall_dvs;                           ///< where the DVS stands in front of the monitor
+  MonitorGeometry monitor;                   ///< the monitor on the wall (its pixels = the window's)
+  double refresh_period = 1.0 / 60.0;        ///< [s]
+  AlignmentPattern pattern;
+  GridAlignmentConfig detector;
+  EventModelConfig model;
+  SamplingConfig sampling;
+  uint64_t seed = 0;
+  int alignment_frames = 7;                  ///< refreshes shown (the first one is not used)
+  /// The DVS aimed at `aim` on the wall from `distance` metres (along the optical axis's normal
+  /// component) with orientation yaw/pitch/roll (degrees, relative to looking at the wall).
+  static Pose dvsPoseAimedAt(const Eigen::Vector3d& ypr_deg, const Eigen::Vector2d& aim, double distance);
+};
+
+/// The pure-software reference of the line-grid check: the same DVS at the virtual camera's
+/// pose looking at an nx x ny grid of lines (`spacing`, `width` m, at the origin of the wall)
+/// blinking at half the refresh rate between black_level and white_level, directly (no screen),
+/// for `frames` refreshes (the first is skipped). Its per-event distance is the floor set by the
+/// pixel grid.
+LineDistanceStats referenceLineGridDistances(const EmulationConfig& config, const Pose& T_world_virtual, int nx, int ny,
+                                             double spacing, double width, int frames);
+
+class EmulatedScreenLoop
+{
+public:
+  /// `gl` is the window shown on the virtual monitor (its size = the monitor's pixels).
+  EmulatedScreenLoop(const EmulationConfig& config, GlScreenRenderer& gl);
+
+  /// Phase 1: blink the circle grid for alignment_frames refreshes, detect, align. On success the
+  /// pipeline's correction is set.
+  GridAlignment align();
+
+  /// Blink world lines (drawn `width` m wide at the virtual pose) for `frames` refreshes; returns
+  /// the events after the first refresh (simulation time base).
+  dvs_driver::EventVector showLines(const Pose& T_world_virtual, const std::vector<WorldLine>& lines, double width,
+                                    bool corrected, int frames);
+
+  /// Play `scene` along `trajectory` from trajectory time 0 to `duration`, the screen showing
+  /// the pose at trajectory time (screen time since the start) / time_scale at every refresh.
+  /// Returns the events in the trajectory's time base (time stamps rescaled, starting at 0).
+  dvs_driver::EventVector playTrajectory(const Scene& scene, const Trajectory& trajectory, double duration,
+                                         const TimeScale& time_scale);
+
+  ProjectionPipeline& pipeline();
+  const EventSimulator& simulator() const { return *sim_; }
+
+private:
+  struct Program;
+  /// Advance to the next refresh boundary (content switches there) and return its frame index.
+  int64_t alignToRefresh();
+
+  EmulationConfig config_;
+  GlScreenRenderer& gl_;
+  std::shared_ptr<Program> program_;
+  std::unique_ptr<StaticTrajectory> still_;
+  std::unique_ptr<EventSimulator> sim_;
+};
+}  // namespace screen_loop
+}  // namespace dvs_screen_sim
