@@ -48,6 +48,7 @@ void DriverNodelet::readParameters(ros::NodeHandle& pnh)
   pnh.param("reconnect_interval", reconnect_interval_, 0.5);
   pnh.param("transfers", transfers_, 8);
   pnh.param("transfer_size", transfer_size_, 4096);
+  pnh.param("queue_size", queue_size_param_, -1);
   double period_ms;
   int max_events;
   pnh.param("packet_period_ms", period_ms, 1.0);
@@ -71,6 +72,16 @@ void DriverNodelet::readParameters(ros::NodeHandle& pnh)
     badParameter("transfer_size", "must be a multiple of 512 bytes, got " + std::to_string(transfer_size_));
   if (frame_id_.empty())
     badParameter("frame_id", "must not be empty");
+  if (queue_size_param_ < -1)
+    badParameter("queue_size", "must be -1 (automatic), 0 (unlimited) or a number of packets, got " +
+                                   std::to_string(queue_size_param_));
+  // Automatic: a recording played once cannot fill more than itself (already in memory), so a
+  // slow subscriber gets every packet; a camera (or a looped recording) never ends, so what is
+  // held for a subscriber that stalls is bounded to 1000 packets (1 s of 1 ms packets).
+  if (queue_size_param_ >= 0)
+    queue_size_ = static_cast<size_t>(queue_size_param_);
+  else
+    queue_size_ = (!file_.empty() && !replay_loop_) ? 0 : 1000;
   policy_.period_ns = static_cast<int64_t>(period_ms * 1e6 + 0.5);
   policy_.max_events = static_cast<size_t>(max_events);
 }
@@ -132,7 +143,10 @@ void DriverNodelet::onInit()
       stamps_.setBase(0);
     }
     else
-      stamps_.setBase(nowNs() - (stream.events.empty() ? 0 : stream.events.front().t_ns));
+    {
+      replay_first_ns_ = stream.events.empty() ? 0 : stream.events.front().t_ns;
+      stamps_.setBase(nowNs() - replay_first_ns_);
+    }
     NODELET_INFO_STREAM("dvs_driver: replaying " << stream.events.size() << " events of " << file_ << " ("
                                                  << width_ << "x" << height_ << ") at "
                                                  << (replay_speed_ > 0 ? std::to_string(replay_speed_) + "x"
@@ -167,7 +181,9 @@ void DriverNodelet::onInit()
     stamps_.setBase(nowNs());
   }
 
-  events_pub_ = nh.advertise<dvs_msgs::EventArray>("events", 100);
+  // roscpp queues up to queue_size_ packets per subscriber connection not yet written to its
+  // socket and silently discards the oldest beyond that (see ~queue_size).
+  events_pub_ = nh.advertise<dvs_msgs::EventArray>("events", static_cast<uint32_t>(queue_size_));
   info_pub_ = nh.advertise<sensor_msgs::CameraInfo>("camera_info", 1);
   camera_nh_ = nh;
   cinfo_.reset(new camera_info_manager::CameraInfoManager(nh, camera_name_, camera_info_url_));
@@ -225,6 +241,12 @@ void DriverNodelet::onInit()
       {
         started_ = true;
         start_timer_.stop();
+        if (file_time_ == "replay")
+        {
+          // The first event is stamped with the time the replay starts, not the time it was loaded.
+          std::lock_guard<std::mutex> lock(mutex_);
+          stamps_.setBase(nowNs() - replay_first_ns_);
+        }
         input_->start(*this);
       }
     });
@@ -416,6 +438,7 @@ void DriverNodelet::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat)
   stat.add("events published", events_published_);
   stat.add("packets published", packets_published_);
   stat.add("events without subscriber", events_without_subscriber_);
+  stat.add("queue size [packets per subscriber]", queue_size_ == 0 ? std::string("unlimited") : std::to_string(queue_size_));
   stat.add("stamps clamped (time went backwards)", stamps_.clamped());
   stat.add("warnings", warnings_);
   if (device_input_)

@@ -53,6 +53,8 @@ private:
   ros::WallTimer start_timer_;
   std::atomic<bool> started_{false};
   int transfers_ = 8, transfer_size_ = 4096;
+  int queue_size_param_ = -1;
+  size_t queue_size_ = 1000;  // packets per subscriber that ROS holds for a slow subscriber; 0 = unlimited
 
   ros::Publisher events_pub_, info_pub_, reset_pub_;
   ros::Subscriber reset_sub_;
@@ -77,6 +79,7 @@ private:
   ros::WallTimer flush_timer_;
   size_t reserve_ = 1024;
   uint32_t width_ = 128, height_ = 128;
+  int64_t replay_first_ns_ = 0;        // time of a recording's first event (file_time replay)
   int64_t pending_reset_ns_ = -1;      // host time of the last reset request not yet seen
   int64_t slave_reset_ns_ = -1;        // the master's reset time a slave adopts
   bool connected_ = false;
