@@ -8,7 +8,7 @@
 //   /tf                     world -> dvs_gt at groundtruth_rate
 // Private parameters: see the package README (scenario, config_file, seed, duration,
 // real_time_factor, loop, packet_period, world_frame, camera_frame, ground_truth_frame,
-// wall_clock_stamps). The simulation runs in its own thread; the constructor returns at once.
+// wall_clock_stamps, start_delay, wait_for_subscribers). The simulation runs in its own thread; the constructor returns at once.
 #include <dvs_screen_sim/event_simulator.h>
 #include <dvs_screen_sim/sim_config.h>
 #include <ros/ros.h>
@@ -37,6 +37,8 @@ private:
   double real_time_factor_ = 1.0;
   bool loop_ = false;
   bool wall_clock_stamps_ = true;
+  double start_delay_ = 0.0;           ///< [s] wait before simulating
+  bool wait_for_subscribers_ = false;  ///< wait for a subscriber on dvs/events before simulating
   std::string world_frame_, camera_frame_, gt_frame_;
   ros::Publisher events_pub_, info_pub_, pose_pub_, map_pub_;
   std::unique_ptr<tf2_ros::TransformBroadcaster> tf_;

@@ -24,6 +24,8 @@ SimulatorRos::SimulatorRos(ros::NodeHandle nh, ros::NodeHandle pnh) : nh_(nh), p
   pnh_.param<std::string>("world_frame", world_frame_, "world");
   pnh_.param<std::string>("camera_frame", camera_frame_, "dvs");
   pnh_.param<std::string>("ground_truth_frame", gt_frame_, "dvs_gt");
+  pnh_.param("start_delay", start_delay_, 0.0);
+  pnh_.param("wait_for_subscribers", wait_for_subscribers_, false);
   if (seed < 0)
     throw std::invalid_argument("parameter ~seed must be >= 0");
   if (duration < 0)
@@ -32,12 +34,16 @@ SimulatorRos::SimulatorRos(ros::NodeHandle nh, ros::NodeHandle pnh) : nh_(nh), p
     throw std::invalid_argument("parameter ~real_time_factor must be >= 0 (0: as fast as possible)");
   if (!(packet_period > 0))
     throw std::invalid_argument("parameter ~packet_period must be > 0");
+  if (!(start_delay_ >= 0))
+    throw std::invalid_argument("parameter ~start_delay must be >= 0 [s]");
   if (world_frame_.empty() || camera_frame_.empty() || gt_frame_.empty())
     throw std::invalid_argument("parameters ~world_frame, ~camera_frame, ~ground_truth_frame must not be empty");
   config_ = resolveSimConfigFile(scenario, config_file, static_cast<uint64_t>(seed),
                                  duration > 0 ? std::optional<double>(duration) : std::nullopt);
   config_.packet_period = packet_period;
-  events_pub_ = nh_.advertise<dvs_msgs::EventArray>("dvs/events", 100);
+  // 1000 packets = 1 s of 1 ms packets: a subscriber in another process may lag that much
+  // before roscpp drops the oldest packets.
+  events_pub_ = nh_.advertise<dvs_msgs::EventArray>("dvs/events", 1000);
   info_pub_ = nh_.advertise<sensor_msgs::CameraInfo>("dvs/camera_info", 1, true);
   pose_pub_ = nh_.advertise<geometry_msgs::PoseStamped>("dvs/ground_truth/pose", 100);
   map_pub_ = nh_.advertise<visualization_msgs::MarkerArray>("dvs/ground_truth/map", 1, true);
@@ -77,6 +83,17 @@ void SimulatorRos::runLoop()
   const double gt_period = 1.0 / config_.groundtruth_rate;
   sensor_msgs::CameraInfo info = toCameraInfo(config_.camera, camera_frame_);
   dvs_driver::EventVector buffer;
+  // Let consumers (tracker, recorder) connect first, so they see the run from its start.
+  const auto delay_end = std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                                                std::chrono::duration<double>(start_delay_));
+  while (!stop_ && ros::ok() && std::chrono::steady_clock::now() < delay_end)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  if (wait_for_subscribers_)
+  {
+    ROS_INFO("dvs_screen_sim: waiting for a subscriber on %s", events_pub_.getTopic().c_str());
+    while (!stop_ && ros::ok() && events_pub_.getNumSubscribers() == 0)
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
   do
   {
     // Time base of this run: wall clock at start, or the configured offset.

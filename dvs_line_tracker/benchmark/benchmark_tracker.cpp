@@ -1,0 +1,219 @@
+// benchmark_tracker: speed (events/s, per-event latency) and accuracy of the line tracker on the
+// suite's simulated sequences, beside the thesis's figures and a frame-based baseline.
+//
+//   rosrun dvs_line_tracker benchmark_tracker [--runs 5] [--quick]
+#include "frame_baseline.h"
+
+#include <dvs_line_tracker/line_tracker.h>
+#include <dvs_line_tracker/trajectory_evaluation.h>
+#include <dvs_screen_sim/dataset.h>
+#include <dvs_screen_sim/sim_config.h>
+
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <ctime>
+#include <string>
+#include <vector>
+
+using namespace dvs_line_tracker;
+
+namespace
+{
+constexpr double kDeg = 180.0 / M_PI;
+
+struct Sequence
+{
+  std::string name;
+  dvs_screen_sim::SimConfig config;
+  dvs_screen_sim::SimulationOutput output;
+  std::vector<StampedPose> ground_truth;
+};
+
+Sequence simulate(const std::string& name, const std::string& scenario, const std::string& overrides)
+{
+  Sequence s;
+  s.name = name;
+  s.config = dvs_screen_sim::resolveSimConfig(scenario, YAML::Load(overrides));
+  s.output = dvs_screen_sim::runSimulation(s.config);
+  for (const auto& g : s.output.groundtruth)
+    s.ground_truth.push_back({g.t, CameraPose::fromWorldCam(g.T_world_cam.R_world_cam(), g.T_world_cam.p)});
+  return s;
+}
+
+// CPU time of this thread: the machine may be shared; wall time would count other processes.
+double threadCpuSeconds()
+{
+  timespec ts;
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+double median(std::vector<double> v)
+{
+  std::sort(v.begin(), v.end());
+  return v.empty() ? 0.0 : v[v.size() / 2];
+}
+
+double percentile(std::vector<double>& v, double q)
+{
+  if (v.empty())
+    return 0.0;
+  const size_t i = std::min(v.size() - 1, static_cast<size_t>(q * (v.size() - 1)));
+  std::nth_element(v.begin(), v.begin() + i, v.end());
+  return v[i];
+}
+
+struct RunResult
+{
+  AccuracyReport accuracy;
+  double events_per_second = 0;        // all events, initialisation included
+  double tracking_events_per_second = 0;  // events after the first pose
+  double attributed_ratio = 0;
+  uint64_t pose_updates = 0, losses = 0;
+};
+
+RunResult runOnce(const Sequence& seq, const LineTrackerParams& params)
+{
+  LineTracker tracker(seq.config.camera, defaultSquareMap(), params);
+  std::vector<StampedPose> estimates;
+  estimates.reserve(seq.output.events.size());
+  const auto& events = seq.output.events;
+  size_t first_tracked = events.size();
+  const double t0 = threadCpuSeconds();
+  double t_first = t0;
+  for (size_t i = 0; i < events.size(); ++i)
+  {
+    if (tracker.processEvent(events[i]))
+    {
+      if (first_tracked == events.size())
+      {
+        first_tracked = i + 1;
+        t_first = threadCpuSeconds();
+      }
+      estimates.push_back({events[i].t_ns * 1e-9, tracker.pose()});
+    }
+  }
+  const double t1 = threadCpuSeconds();
+  RunResult r;
+  r.accuracy = evaluateTrajectory(estimates, seq.ground_truth, 0.05);
+  r.events_per_second = events.size() / std::max(1e-9, t1 - t0);
+  r.tracking_events_per_second = (events.size() - first_tracked) / std::max(1e-9, t1 - t_first);
+  r.attributed_ratio = static_cast<double>(tracker.stats().events_attributed) / events.size();
+  r.pose_updates = tracker.stats().pose_updates;
+  r.losses = tracker.stats().losses;
+  return r;
+}
+
+// Per-event latency while tracking: time of processEvent for every event after the first pose.
+std::vector<double> latencies(const Sequence& seq, const LineTrackerParams& params)
+{
+  LineTracker tracker(seq.config.camera, defaultSquareMap(), params);
+  std::vector<double> lat;
+  lat.reserve(seq.output.events.size());
+  bool tracking = false;
+  for (const auto& e : seq.output.events)
+  {
+    const auto t0 = std::chrono::steady_clock::now();
+    const bool updated = tracker.processEvent(e);
+    const auto t1 = std::chrono::steady_clock::now();
+    if (tracking && updated)
+      lat.push_back(std::chrono::duration<double>(t1 - t0).count());
+    tracking = tracking || updated;
+  }
+  return lat;
+}
+
+void report(const Sequence& seq, const char* label, const LineTrackerParams& params, int runs)
+{
+  std::vector<double> eps, teps, rp, ro, mp, mo;
+  RunResult last;
+  for (int i = 0; i < runs; ++i)
+  {
+    last = runOnce(seq, params);
+    eps.push_back(last.events_per_second);
+    teps.push_back(last.tracking_events_per_second);
+  }
+  std::vector<double> lat = latencies(seq, params);
+  const double p50 = percentile(lat, 0.5) * 1e9, p99 = percentile(lat, 0.99) * 1e9;
+  const auto& a = last.accuracy;
+  std::printf("| %s | %s | %zu | %.2f | %.2f | %.3f | %.2f / %.2f | %.2f / %.2f | %.1f %% | %.0f / %.0f | %.0f / %.0f | %llu |\n",
+              seq.name.c_str(), label, seq.output.events.size(), median(eps) / 1e6, median(teps) / 1e6,
+              a.first_estimate_s, 100 * a.rms_position_m, a.rms_orientation_rad * kDeg, 100 * a.max_position_m,
+              a.max_orientation_rad * kDeg, a.samples ? 100.0 * a.samples_tracked / a.samples : 0.0, p50, p99,
+              last.attributed_ratio * 100, static_cast<double>(last.pose_updates) / 1e3,
+              static_cast<unsigned long long>(last.losses));
+}
+
+void reportBaseline(const Sequence& seq, double period_s)
+{
+  const FrameBaselineResult b = runFrameBaseline(seq.output.events, seq.config.camera, defaultSquareMap(), period_s);
+  const AccuracyReport a = evaluateTrajectory(b.poses, seq.ground_truth, 2 * period_s + 1e-6);
+  std::vector<double> cpu = b.frame_cpu_s;
+  const double p50 = percentile(cpu, 0.5) * 1e6, p99 = percentile(cpu, 0.99) * 1e6;
+  // Latency of a pose with respect to the events it uses: half a frame on average plus the
+  // processing time (the pose is available after the frame closes and is processed).
+  std::printf("| %s | frames every %.0f ms, Hough + PnP | %d / %d | %.2f / %.2f | %.2f / %.2f | %.1f %% | %.0f / %.0f us | %.1f ms |\n",
+              seq.name.c_str(), period_s * 1e3, b.frames_with_pose, b.frames, 100 * a.rms_position_m,
+              a.rms_orientation_rad * kDeg, 100 * a.max_position_m, a.max_orientation_rad * kDeg,
+              a.samples ? 100.0 * a.samples_tracked / a.samples : 0.0, p50, p99, period_s * 1e3 / 2 + p50 / 1e3);
+}
+}  // namespace
+
+int main(int argc, char** argv)
+{
+  int runs = 5;
+  bool quick = false;
+  for (int i = 1; i < argc; ++i)
+  {
+    if (!std::strcmp(argv[i], "--runs") && i + 1 < argc)
+      runs = std::max(1, std::atoi(argv[++i]));
+    else if (!std::strcmp(argv[i], "--quick"))
+      quick = true;
+    else
+    {
+      std::fprintf(stderr, "usage: benchmark_tracker [--runs N] [--quick]\n");
+      return 2;
+    }
+  }
+  std::vector<Sequence> seqs;
+  seqs.push_back(simulate("flip 1200 deg/s, 2 m", "flip", "trajectory: {flip: {distance: 2.0}}"));
+  if (!quick)
+  {
+    seqs.push_back(simulate("flip 1200 deg/s, 1.5 m", "flip", "trajectory: {flip: {distance: 1.5}}"));
+    seqs.push_back(simulate("circle, 2.5 m", "circle", "trajectory: {circle: {distance: 2.5}}"));
+    seqs.push_back(simulate("flip 2000 deg/s, 2 m", "flip", "trajectory: {flip: {peak_rate_deg_s: 2000}}"));
+    seqs.push_back(simulate("flip 2 m, noise 2 Hz/px", "flip", "events: {noise: {background_rate: 2.0}}"));
+  }
+  std::printf("## Line tracker (speed: events per thread-CPU-second, median of %d runs; latency: wall clock)\n\n", runs);
+  std::printf("| sequence | solver | events | Mev/s all | Mev/s tracking | first pose [s] | RMS [cm / deg] | max [cm / deg] | "
+              "tracked | latency p50 / p99 [ns] | attributed | pose updates [k] | losses |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  LineTrackerParams incremental;
+  LineTrackerParams full;
+  full.estimator.solver = SolverType::kFullGaussNewton;
+  LineTrackerParams thesis;  // the thesis's buffer size and an undamped solver
+  thesis.buffer_size = 8;
+  thesis.estimator.damping = 1e-4;
+  for (const auto& s : seqs)
+  {
+    report(s, "incremental (default)", incremental, runs);
+    if (s.name.find("flip 1200 deg/s, 2 m") != std::string::npos || !quick)
+    {
+      report(s, "full Gauss-Newton x3", full, 1);
+      report(s, "incremental, buffer 8, damping 1e-4", thesis, 1);
+    }
+  }
+  std::printf("\n## Frame-based baseline (accumulate a frame, detect the square from scratch, PnP)\n\n");
+  std::printf("| sequence | method | frames with pose | RMS [cm / deg] | max [cm / deg] | tracked | CPU per frame p50 / p99 | "
+              "mean pose age |\n|---|---|---|---|---|---|---|---|\n");
+  for (const auto& s : seqs)
+    for (double period : {0.005, 0.01})
+      reportBaseline(s, period);
+  std::printf("\nThesis (MATLAB, offline): 1.85 cm / 9.15 deg mean error in simulation (helix, first second); "
+              "pixel-rounding limit 1.0 cm / 1.3 deg at 2.5 m.\n");
+  return 0;
+}

@@ -1,0 +1,106 @@
+#pragma once
+// Line-segment detection for the initialisation (thesis 4.2.1): the most recent events are
+// voted into a Hough space (7.5 deg x 2.5 px bins); every bin over the threshold is a line
+// candidate (not only local maxima, thesis Fig. 4.2); the events near a candidate are sorted
+// along it and split into segments at gaps; short or sparse segments are dropped.
+#include <Eigen/Core>
+
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+namespace dvs_line_tracker
+{
+struct HoughParams
+{
+  double angle_bin_deg = 7.5;           ///< angular bin size (thesis: 7.5 deg -> 24 bins over 180 deg)
+  double radius_bin_px = 2.5;           ///< radial bin size (thesis: 2.5 px)
+  int vote_threshold = 25;              ///< a bin with at least this many votes is a line candidate
+  double attribution_distance_px = 2.0; ///< events within this distance belong to a candidate line
+  double max_gap_px = 15.0;             ///< a larger gap between neighbouring events splits a segment
+  double min_segment_length_px = 20.0;  ///< shorter segments are dropped
+  int min_segment_events = 25;          ///< segments with fewer events are dropped
+  int window_events = 1500;             ///< the Hough space holds the votes of this many latest events
+  bool unique_pixels = false;           ///< a pixel already in the window does not vote again
+  bool neighbour_filter = true;         ///< vote only for events with 8-neighbour events shortly before
+  int neighbour_filter_min = 2;         ///< how many of the 8 neighbours must have fired
+  int neighbour_filter_events = 500;    ///< "shortly before" = among the last this many events (adapts to the event rate)
+  int max_candidates = 150;             ///< candidates examined per detection, most votes first
+  int max_segments = 40;                ///< longest segments kept per detection
+};
+
+/// A 2D segment in ideal (undistorted) pixel coordinates.
+struct ImageSegment
+{
+  Eigen::Vector2d p0 = Eigen::Vector2d::Zero();
+  Eigen::Vector2d p1 = Eigen::Vector2d::Zero();
+  int num_events = 0;
+  double length() const { return (p1 - p0).norm(); }
+  Eigen::Vector2d direction() const { return (p1 - p0).normalized(); }
+};
+
+/// A line x cos(theta) + y sin(theta) = r in ideal pixel coordinates (origin top-left).
+struct ImageLine
+{
+  double theta = 0.0;  ///< rad
+  double r = 0.0;      ///< px
+  Eigen::Vector2d normal() const { return {std::cos(theta), std::sin(theta)}; }
+  double distance(const Eigen::Vector2d& p) const { return p.dot(normal()) - r; }
+};
+
+/// Total-least-squares line through points (needs >= 2 distinct points).
+ImageLine fitLine(const std::vector<Eigen::Vector2d>& points);
+
+/// Split the points near `line` (orthogonal distance <= params.attribution_distance_px) into
+/// segments: sorted along the line, split at gaps > max_gap_px, kept when >= min length and
+/// >= min events; each kept segment is refitted and its endpoints are the extreme events
+/// projected onto the refitted line.
+std::vector<ImageSegment> splitIntoSegments(const std::vector<Eigen::Vector2d>& points, const ImageLine& line,
+                                            const HoughParams& params);
+
+class HoughLineDetector
+{
+public:
+  /// `width`, `height`: sensor size in pixels (the Hough space covers the image).
+  HoughLineDetector(int width, int height, const HoughParams& params = HoughParams());
+
+  void reset();
+  /// One event: `x_ideal`, `y_ideal` its undistorted position, `sx`, `sy` its sensor pixel
+  /// (for the neighbour filter), `t_ns` its time. Returns true when it was voted.
+  bool addEvent(float x_ideal, float y_ideal, int sx, int sy, int64_t t_ns);
+
+  int numAngleBins() const { return num_theta_; }
+  int numRadiusBins() const { return num_r_; }
+  int votes(int angle_bin, int radius_bin) const { return acc_[angle_bin * num_r_ + radius_bin]; }
+  int numWindowEvents() const { return window_count_; }
+  /// Line through the centre of a bin.
+  ImageLine binLine(int angle_bin, int radius_bin) const;
+  /// All bins with votes >= threshold, as (angle bin, radius bin), most votes first.
+  std::vector<std::pair<int, int>> candidateBins() const;
+
+  /// The positions currently voted (the window), oldest first.
+  std::vector<Eigen::Vector2d> windowPoints() const;
+
+  /// Segments found from all candidate bins, duplicates removed, longest first.
+  std::vector<ImageSegment> detectSegments() const;
+
+  const HoughParams& params() const { return params_; }
+
+private:
+  void vote(float x, float y, int increment);
+
+  HoughParams params_;
+  int width_, height_;
+  int num_theta_, num_r_;
+  double r_max_;
+  double cx_, cy_;  // Hough origin (image centre)
+  std::vector<double> cos_, sin_;
+  std::vector<int> acc_;
+  std::vector<Eigen::Vector2f> window_;  // ring buffer of voted positions
+  std::vector<int32_t> window_pixel_;    // their sensor pixel index (-1: none)
+  std::vector<uint8_t> in_window_;       // per sensor pixel: already voting
+  int window_head_ = 0, window_count_ = 0;
+  std::vector<int64_t> last_event_index_;  // per sensor pixel, for the neighbour filter
+  int64_t event_index_ = 0;
+};
+}  // namespace dvs_line_tracker

@@ -1,0 +1,60 @@
+#pragma once
+// The per-event pose update (thesis 4.2.2 "Pose Estimation"): minimise the distances of the
+// buffered events to their projected segments over the 6-DoF camera pose, warm-started from
+// the previous pose.
+//
+// Incremental solver (default): every segment keeps its Gauss-Newton normal-equation
+// contribution (H_i = sum J^T J, g_i = sum J^T r) linearised at the pose of its last update.
+// After an event only the changed segment (plus one more, round robin) is re-linearised; the
+// stale contributions are carried to the current pose to first order (g_i + H_i (x - x_i),
+// x the accumulated increments), and one damped Gauss-Newton step is taken. Per event this
+// costs two segment linearisations and one 6x6 solve, and allocates nothing.
+// Full solver (for comparison): re-linearise all segments and iterate Gauss-Newton.
+#include <dvs_line_tracker/camera_pose.h>
+#include <dvs_line_tracker/pose_initializer.h>
+#include <dvs_line_tracker/segment_attribution.h>
+
+#include <vector>
+
+namespace dvs_line_tracker
+{
+enum class SolverType
+{
+  kIncremental,   ///< one Gauss-Newton step per event on cached per-segment contributions
+  kFullGaussNewton  ///< all segments re-linearised, several iterations per event
+};
+
+struct PoseEstimatorParams
+{
+  SolverType solver = SolverType::kIncremental;
+  int full_iterations = 3;       ///< Gauss-Newton iterations per event for kFullGaussNewton
+  int extra_relinearizations = 1;///< incremental: segments re-linearised round robin per event besides the changed one
+  double damping = 0.1;          ///< Levenberg damping, relative to the mean diagonal of H (steadies weakly observable directions)
+  double huber_px = 1.0;         ///< Huber threshold of the point-to-line residuals
+};
+
+struct SegmentNormalEquations
+{
+  Matrix6d H = Matrix6d::Zero();
+  Vector6d g = Vector6d::Zero();
+  Vector6d x_lin = Vector6d::Zero();  ///< accumulated increments at linearisation
+  double sum_sq = 0;                   ///< sum of squared residuals at linearisation
+  int num_points = 0;
+  bool active = false;
+};
+
+/// Projection Jacobians of a segment's endpoints with respect to the pose increment.
+void projectWithJacobian(const PinholeK& k, const Eigen::Vector3d& p_cam, Eigen::Vector2d& px, Matrix26d& J);
+
+/// Normal-equation contribution of the points of one buffer to its segment at `pose`. Points
+/// farther than `gate_px` from the projected line are left out (they could not be attributed at
+/// this pose: e.g. the stale buffer of an occluded edge that moved on). Returns false when the
+/// segment is behind the camera, degenerate, or fewer than 2 points are inside the gate.
+bool linearizeSegment(const PinholeK& k, const CameraPose& pose, const Eigen::Vector3d& p0_world,
+                      const Eigen::Vector3d& p1_world, const SegmentBuffer& buffer, double huber_px,
+                      SegmentNormalEquations& out, double gate_px = 1e300);
+
+/// Solve the damped normal equations of the active segments at the accumulated increment
+/// `x_now`. Returns false when there is nothing to solve.
+bool solveStep(const SegmentNormalEquations* eqs, int n, const Vector6d& x_now, double damping, Vector6d& delta);
+}  // namespace dvs_line_tracker

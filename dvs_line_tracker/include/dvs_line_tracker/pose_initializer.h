@@ -1,0 +1,56 @@
+#pragma once
+// Initial pose from the corners of a detected image polygon (thesis 4.2.1 "Initial Pose
+// Estimation"): every cyclic assignment of image corners to the map polygon's corners, in both
+// directions, is solved with planar PnP (IPPE; SQPnP for non-planar polygons); assignments
+// that reproject badly or put the polygon behind the camera are dropped; among the rest the
+// one whose projected map "up" points most nearly up in the image wins (this resolves the
+// symmetry of a square: roll about the optical axis within +-45 deg); the winner is refined by
+// minimising the corners' reprojection error with Ceres.
+#include <dvs_line_tracker/camera_pose.h>
+#include <dvs_line_tracker/line_map.h>
+
+#include <Eigen/Core>
+#include <vector>
+
+namespace dvs_line_tracker
+{
+/// Ideal (undistorted) pinhole intrinsics used by the tracker: the undistorted image of the
+/// shared camera model has the same K.
+struct PinholeK
+{
+  double fx = 115, fy = 115, cx = 63.5, cy = 63.5;
+  /// Project a camera-frame point to an ideal pixel (no check of z).
+  Eigen::Vector2d project(const Eigen::Vector3d& p_cam) const
+  {
+    return {fx * p_cam.x() / p_cam.z() + cx, fy * p_cam.y() / p_cam.z() + cy};
+  }
+};
+
+struct PoseInitParams
+{
+  double max_reprojection_rms_px = 2.0;  ///< assignments reprojecting worse are rejected
+  bool refine = true;                    ///< Ceres refinement of the reprojection error
+};
+
+struct InitialPose
+{
+  CameraPose pose;
+  double reprojection_rms_px = 0;  ///< after refinement
+  double up_score = 0;             ///< cosine between projected map up and image up (-y)
+  int polygon_index = -1;          ///< the map polygon used
+  std::vector<int> corner_assignment;  ///< image corner k <-> map polygon corner corner_assignment[k]
+};
+
+/// Corners' reprojection RMS (px) of `pose`.
+double cornerReprojectionRms(const CameraPose& pose, const PinholeK& k, const std::vector<Eigen::Vector2d>& image,
+                             const std::vector<Eigen::Vector3d>& world);
+
+/// Returns false when no assignment of the image corners to any map polygon with the same
+/// number of corners reprojects within the limit.
+bool estimateInitialPose(const std::vector<Eigen::Vector2d>& corners_ideal_px, const LineMap& map, const PinholeK& k,
+                         const PoseInitParams& params, InitialPose& result);
+
+/// Ceres refinement of T_cam_world minimising the corners' reprojection error.
+CameraPose refinePoseReprojection(const CameraPose& initial, const PinholeK& k,
+                                  const std::vector<Eigen::Vector2d>& image, const std::vector<Eigen::Vector3d>& world);
+}  // namespace dvs_line_tracker

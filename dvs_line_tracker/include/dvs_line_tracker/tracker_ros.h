@@ -1,0 +1,53 @@
+#pragma once
+// ROS wrapper of the line tracker: parameters, subscriptions, publications. The nodelet and
+// the node construct this one class; the algorithm lives in LineTracker.
+#include <diagnostic_updater/diagnostic_updater.h>
+#include <dvs_line_tracker/line_tracker.h>
+#include <dvs_msgs/EventArray.h>
+#include <image_transport/image_transport.h>
+#include <ros/ros.h>
+#include <sensor_msgs/CameraInfo.h>
+#include <tf2_ros/transform_broadcaster.h>
+
+#include <memory>
+#include <string>
+
+namespace dvs_line_tracker
+{
+class TrackerRos
+{
+public:
+  /// Reads and validates the private parameters; throws std::runtime_error naming a bad one.
+  TrackerRos(ros::NodeHandle nh, ros::NodeHandle pnh);
+
+private:
+  void onCameraInfo(const sensor_msgs::CameraInfoConstPtr& msg);
+  void onEvents(const dvs_msgs::EventArrayConstPtr& msg);
+  void startTracker(const dvs_calibration::CameraModel& camera);
+  void publishPacket(const dvs_msgs::EventArray& msg, int64_t last_update_ns, bool any_update);
+  void publishMarkers(const ros::Time& stamp);
+  void publishImage(const dvs_msgs::EventArray& msg);
+  void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat);
+
+  ros::NodeHandle nh_, pnh_;
+  LineTrackerParams params_;
+  LineMap map_;
+  std::unique_ptr<LineTracker> tracker_;
+  std::string world_frame_, camera_frame_;
+  bool publish_per_event_ = true;
+  double image_rate_hz_ = 30.0, marker_rate_hz_ = 10.0;
+
+  ros::Subscriber events_sub_, camera_info_sub_;
+  ros::Publisher pose_pub_, poses_pub_, markers_pub_, state_pub_;
+  image_transport::Publisher image_pub_;
+  tf2_ros::TransformBroadcaster tf_;
+  diagnostic_updater::Updater diagnostics_;
+  ros::Timer diagnostics_timer_;
+  ros::Time last_image_, last_markers_;
+
+  // Rates for diagnostics.
+  uint64_t events_since_diag_ = 0, updates_since_diag_ = 0;
+  ros::WallTime last_diag_ = ros::WallTime::now();
+  TrackerState last_state_ = TrackerState::kInitializing;
+};
+}  // namespace dvs_line_tracker

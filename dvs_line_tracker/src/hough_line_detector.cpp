@@ -1,0 +1,314 @@
+#include <dvs_line_tracker/hough_line_detector.h>
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace dvs_line_tracker
+{
+ImageLine fitLine(const std::vector<Eigen::Vector2d>& points)
+{
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  for (const auto& p : points)
+    mean += p;
+  mean /= static_cast<double>(points.size());
+  Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
+  for (const auto& p : points)
+    cov += (p - mean) * (p - mean).transpose();
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(cov);
+  const Eigen::Vector2d normal = eig.eigenvectors().col(0);  // smallest eigenvalue
+  ImageLine line;
+  line.theta = std::atan2(normal.y(), normal.x());
+  line.r = normal.dot(mean);
+  return line;
+}
+
+std::vector<ImageSegment> splitIntoSegments(const std::vector<Eigen::Vector2d>& points, const ImageLine& line,
+                                            const HoughParams& params)
+{
+  const Eigen::Vector2d n = line.normal();
+  const Eigen::Vector2d dir(-n.y(), n.x());
+  std::vector<std::pair<double, int>> along;
+  along.reserve(points.size());
+  for (size_t i = 0; i < points.size(); ++i)
+    if (std::abs(points[i].dot(n) - line.r) <= params.attribution_distance_px)
+      along.emplace_back(points[i].dot(dir), static_cast<int>(i));
+  std::sort(along.begin(), along.end());
+  std::vector<ImageSegment> out;
+  size_t begin = 0;
+  for (size_t i = 1; i <= along.size(); ++i)
+  {
+    if (i < along.size() && along[i].first - along[i - 1].first <= params.max_gap_px)
+      continue;
+    const size_t count = i - begin;
+    const double length = count > 0 ? along[i - 1].first - along[begin].first : 0.0;
+    if (static_cast<int>(count) >= params.min_segment_events && length >= params.min_segment_length_px)
+    {
+      std::vector<Eigen::Vector2d> piece;
+      piece.reserve(count);
+      for (size_t k = begin; k < i; ++k)
+        piece.push_back(points[along[k].second]);
+      const ImageLine refit = fitLine(piece);
+      const Eigen::Vector2d rn = refit.normal();
+      Eigen::Vector2d rdir(-rn.y(), rn.x());
+      if (rdir.dot(dir) < 0)
+        rdir = -rdir;
+      double smin = std::numeric_limits<double>::max(), smax = -smin;
+      for (const auto& p : piece)
+      {
+        smin = std::min(smin, p.dot(rdir));
+        smax = std::max(smax, p.dot(rdir));
+      }
+      ImageSegment seg;
+      seg.p0 = refit.r * rn + smin * rdir;
+      seg.p1 = refit.r * rn + smax * rdir;
+      seg.num_events = static_cast<int>(count);
+      if (seg.length() >= params.min_segment_length_px)
+        out.push_back(seg);
+    }
+    begin = i;
+  }
+  return out;
+}
+
+HoughLineDetector::HoughLineDetector(int width, int height, const HoughParams& params)
+  : params_(params), width_(width), height_(height)
+{
+  if (width <= 0 || height <= 0)
+    throw std::invalid_argument("HoughLineDetector: image size must be positive");
+  if (!(params.angle_bin_deg > 0 && params.angle_bin_deg <= 90) || !(params.radius_bin_px > 0))
+    throw std::invalid_argument("HoughLineDetector: bin sizes must be positive (angle <= 90 deg)");
+  if (params.window_events < 1)
+    throw std::invalid_argument("HoughLineDetector: window_events must be >= 1");
+  num_theta_ = static_cast<int>(std::lround(180.0 / params.angle_bin_deg));
+  cx_ = (width - 1) / 2.0;
+  cy_ = (height - 1) / 2.0;
+  r_max_ = std::hypot(width / 2.0 + 4, height / 2.0 + 4);
+  num_r_ = static_cast<int>(std::ceil(2 * r_max_ / params.radius_bin_px));
+  for (int k = 0; k < num_theta_; ++k)
+  {
+    const double th = k * M_PI / num_theta_;  // bins centred on 0, 7.5, ... deg: axis-aligned edges hit a centre
+    cos_.push_back(std::cos(th));
+    sin_.push_back(std::sin(th));
+  }
+  acc_.assign(static_cast<size_t>(num_theta_) * num_r_, 0);
+  window_.resize(params.window_events);
+  window_pixel_.assign(params.window_events, -1);
+  in_window_.assign(static_cast<size_t>(width) * height, 0);
+  last_event_index_.assign(static_cast<size_t>(width) * height, std::numeric_limits<int64_t>::min() / 2);
+}
+
+void HoughLineDetector::reset()
+{
+  std::fill(acc_.begin(), acc_.end(), 0);
+  window_head_ = window_count_ = 0;
+  std::fill(window_pixel_.begin(), window_pixel_.end(), -1);
+  std::fill(in_window_.begin(), in_window_.end(), 0);
+  std::fill(last_event_index_.begin(), last_event_index_.end(), std::numeric_limits<int64_t>::min() / 2);
+}
+
+void HoughLineDetector::vote(float x, float y, int increment)
+{
+  const double xc = x - cx_, yc = y - cy_;
+  for (int k = 0; k < num_theta_; ++k)
+  {
+    const double r = xc * cos_[k] + yc * sin_[k];
+    const int rb = static_cast<int>((r + r_max_) / params_.radius_bin_px);
+    if (rb >= 0 && rb < num_r_)
+      acc_[k * num_r_ + rb] += increment;
+  }
+}
+
+bool HoughLineDetector::addEvent(float x_ideal, float y_ideal, int sx, int sy, int64_t /*t_ns*/)
+{
+  ++event_index_;
+  bool pass = true;
+  if (sx >= 0 && sy >= 0 && sx < width_ && sy < height_)
+  {
+    if (params_.neighbour_filter)
+    {
+      const int64_t horizon = event_index_ - params_.neighbour_filter_events;
+      int support = 0;
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx)
+        {
+          if (dx == 0 && dy == 0)
+            continue;
+          const int nx = sx + dx, ny = sy + dy;
+          if (nx < 0 || ny < 0 || nx >= width_ || ny >= height_)
+            continue;
+          if (last_event_index_[static_cast<size_t>(ny) * width_ + nx] >= horizon)
+            ++support;
+        }
+      pass = support >= params_.neighbour_filter_min;
+    }
+    last_event_index_[static_cast<size_t>(sy) * width_ + sx] = event_index_;
+  }
+  if (!pass)
+    return false;
+  const bool on_sensor = sx >= 0 && sy >= 0 && sx < width_ && sy < height_;
+  const int32_t pixel = on_sensor ? sy * width_ + sx : -1;
+  if (params_.unique_pixels && on_sensor && in_window_[pixel])
+    return false;  // the pixel already votes
+  const int capacity = static_cast<int>(window_.size());
+  if (window_count_ == capacity)
+  {
+    const Eigen::Vector2f& old = window_[window_head_];
+    vote(old.x(), old.y(), -1);
+    if (window_pixel_[window_head_] >= 0)
+      in_window_[window_pixel_[window_head_]] = 0;
+  }
+  else
+    ++window_count_;
+  window_[window_head_] = Eigen::Vector2f(x_ideal, y_ideal);
+  window_pixel_[window_head_] = pixel;
+  if (on_sensor)
+    in_window_[pixel] = 1;
+  window_head_ = (window_head_ + 1) % capacity;
+  vote(x_ideal, y_ideal, +1);
+  return true;
+}
+
+ImageLine HoughLineDetector::binLine(int angle_bin, int radius_bin) const
+{
+  ImageLine line;
+  line.theta = angle_bin * M_PI / num_theta_;
+  const double r_centred = (radius_bin + 0.5) * params_.radius_bin_px - r_max_;
+  // Shift the origin from the image centre to the top-left pixel.
+  line.r = r_centred + cx_ * std::cos(line.theta) + cy_ * std::sin(line.theta);
+  return line;
+}
+
+std::vector<std::pair<int, int>> HoughLineDetector::candidateBins() const
+{
+  std::vector<std::pair<int, int>> bins;
+  for (int k = 0; k < num_theta_; ++k)
+    for (int rb = 0; rb < num_r_; ++rb)
+      if (acc_[k * num_r_ + rb] >= params_.vote_threshold)
+        bins.emplace_back(k, rb);
+  std::sort(bins.begin(), bins.end(), [this](const auto& a, const auto& b) {
+    return votes(a.first, a.second) > votes(b.first, b.second);
+  });
+  return bins;
+}
+
+std::vector<Eigen::Vector2d> HoughLineDetector::windowPoints() const
+{
+  std::vector<Eigen::Vector2d> points;
+  points.reserve(window_count_);
+  const int capacity = static_cast<int>(window_.size());
+  const int start = window_count_ == capacity ? window_head_ : 0;
+  for (int i = 0; i < window_count_; ++i)
+    points.push_back(window_[(start + i) % capacity].cast<double>());
+  return points;
+}
+
+std::vector<ImageSegment> HoughLineDetector::detectSegments() const
+{
+  const std::vector<Eigen::Vector2d> points = windowPoints();
+  auto bins = candidateBins();
+  if (static_cast<int>(bins.size()) > params_.max_candidates)
+    bins.resize(params_.max_candidates);
+
+  const double half_dtheta = 0.5 * M_PI / num_theta_;
+  std::vector<ImageSegment> all;
+  std::vector<Eigen::Vector2d> support;
+  std::vector<ImageLine> processed;
+  for (const auto& [k, rb] : bins)
+  {
+    // Support: points whose Hough curve passes through the bin (any angle inside it).
+    const ImageLine centre = binLine(k, rb);
+    double cs[3], sn[3], off[3];
+    for (int a = 0; a < 3; ++a)
+    {
+      const double th = centre.theta + (a - 1) * half_dtheta;
+      cs[a] = std::cos(th);
+      sn[a] = std::sin(th);
+      // r measured from the image centre, shifted to compare with centre.r (top-left origin).
+      off[a] = -(cx_ * cs[a] + cy_ * sn[a]) + cx_ * std::cos(centre.theta) + cy_ * std::sin(centre.theta);
+    }
+    const double r_lo = centre.r - params_.radius_bin_px / 2, r_hi = centre.r + params_.radius_bin_px / 2;
+    support.clear();
+    for (const auto& p : points)
+    {
+      double rmin = std::numeric_limits<double>::max(), rmax = -rmin;
+      for (int a = 0; a < 3; ++a)
+      {
+        const double r = p.x() * cs[a] + p.y() * sn[a] + off[a];
+        rmin = std::min(rmin, r);
+        rmax = std::max(rmax, r);
+      }
+      if (rmax >= r_lo && rmin <= r_hi)
+        support.push_back(p);
+    }
+    if (static_cast<int>(support.size()) < params_.min_segment_events)
+      continue;
+    // Fit, then gate at the attribution distance and refit once to shed stray support.
+    ImageLine line = fitLine(support);
+    support.clear();
+    const Eigen::Vector2d ln = line.normal();
+    for (const auto& p : points)
+      if (std::abs(p.dot(ln) - line.r) <= params_.attribution_distance_px)
+        support.push_back(p);
+    if (static_cast<int>(support.size()) < params_.min_segment_events)
+      continue;
+    line = fitLine(support);
+    // Neighbouring bins usually refit to the same line: split each line once.
+    bool seen = false;
+    for (const auto& done : processed)
+    {
+      const double c = std::abs(std::cos(done.theta - line.theta));
+      const double r_same = std::cos(done.theta - line.theta) > 0 ? done.r : -done.r;
+      if (c > std::cos(1.0 * M_PI / 180.0) && std::abs(r_same - line.r) < 0.5)
+      {
+        seen = true;
+        break;
+      }
+    }
+    if (seen)
+      continue;
+    processed.push_back(line);
+    for (const auto& seg : splitIntoSegments(points, line, params_))
+      all.push_back(seg);
+  }
+  // Remove duplicates (adjacent bins find the same segment): keep the one with most events.
+  std::sort(all.begin(), all.end(), [](const ImageSegment& a, const ImageSegment& b) {
+    return a.num_events > b.num_events;
+  });
+  std::vector<ImageSegment> kept;
+  for (const auto& s : all)
+  {
+    bool duplicate = false;
+    for (const auto& k : kept)
+    {
+      const Eigen::Vector2d d = k.direction();
+      const Eigen::Vector2d n(-d.y(), d.x());
+      if (std::abs(s.direction().dot(d)) < std::cos(5.0 * M_PI / 180.0))
+        continue;
+      if (std::abs(n.dot(s.p0 - k.p0)) > 3.0 || std::abs(n.dot(s.p1 - k.p0)) > 3.0)
+        continue;
+      // Overlap along the line.
+      const double a0 = 0, a1 = k.length();
+      double b0 = d.dot(s.p0 - k.p0), b1 = d.dot(s.p1 - k.p0);
+      if (b0 > b1)
+        std::swap(b0, b1);
+      const double overlap = std::min(a1, b1) - std::max(a0, b0);
+      if (overlap > 0.5 * std::min(a1 - a0, b1 - b0))
+      {
+        duplicate = true;
+        break;
+      }
+    }
+    if (!duplicate)
+      kept.push_back(s);
+  }
+  std::sort(kept.begin(), kept.end(), [](const ImageSegment& a, const ImageSegment& b) {
+    return a.length() > b.length();
+  });
+  if (static_cast<int>(kept.size()) > params_.max_segments)
+    kept.resize(params_.max_segments);
+  return kept;
+}
+}  // namespace dvs_line_tracker

@@ -1,0 +1,201 @@
+#include <dvs_line_tracker/line_map.h>
+
+#include <yaml-cpp/yaml.h>
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+namespace dvs_line_tracker
+{
+namespace
+{
+constexpr double kVertexTolerance = 1e-3;  // metres
+constexpr double kMinSegmentLength = 1e-3;
+
+Eigen::Vector3d readVector3(const YAML::Node& node, const std::string& what)
+{
+  if (!node.IsSequence() || node.size() != 3)
+    throw LineMapError(what + " must be a list of 3 numbers");
+  Eigen::Vector3d v;
+  for (int i = 0; i < 3; ++i)
+  {
+    try
+    {
+      v[i] = node[i].as<double>();
+    }
+    catch (const YAML::Exception&)
+    {
+      throw LineMapError(what + " must contain numbers");
+    }
+    if (!std::isfinite(v[i]))
+      throw LineMapError(what + " contains a non-finite number");
+  }
+  return v;
+}
+}  // namespace
+
+LineMap defaultSquareMap(double side_m)
+{
+  LineMap map;
+  const double h = side_m / 2;
+  // Counter-clockwise seen from +z (from the camera side).
+  const Eigen::Vector3d c[4] = {{-h, -h, 0}, {h, -h, 0}, {h, h, 0}, {-h, h, 0}};
+  for (int k = 0; k < 4; ++k)
+    map.segments.push_back({c[k], c[(k + 1) % 4]});
+  finalizeLineMap(map, "default square map");
+  return map;
+}
+
+void finalizeLineMap(LineMap& map, const std::string& name)
+{
+  if (map.segments.empty())
+    throw LineMapError(name + ": the map has no segments");
+  if (!map.up_world.allFinite() || map.up_world.norm() < 1e-9)
+    throw LineMapError(name + ": 'up' must be a non-zero vector");
+  map.up_world.normalize();
+  for (size_t i = 0; i < map.segments.size(); ++i)
+  {
+    const auto& s = map.segments[i];
+    if (!s.p0_world.allFinite() || !s.p1_world.allFinite())
+      throw LineMapError(name + ": segment " + std::to_string(i) + " has non-finite coordinates");
+    if ((s.p1_world - s.p0_world).norm() < kMinSegmentLength)
+      throw LineMapError(name + ": segment " + std::to_string(i) + " is degenerate (shorter than 1 mm)");
+  }
+  // Closed polygons: walk from each unused segment through shared endpoints.
+  map.polygons.clear();
+  std::vector<bool> used(map.segments.size(), false);
+  auto close = [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) { return (a - b).norm() < kVertexTolerance; };
+  for (size_t start = 0; start < map.segments.size(); ++start)
+  {
+    if (used[start])
+      continue;
+    MapPolygon poly;
+    std::vector<bool> in_chain(map.segments.size(), false);
+    poly.segment_ids.push_back(static_cast<int>(start));
+    poly.corners_world.push_back(map.segments[start].p0_world);
+    in_chain[start] = true;
+    Eigen::Vector3d end = map.segments[start].p1_world;
+    bool closed = false;
+    while (true)
+    {
+      if (close(end, map.segments[start].p0_world) && poly.segment_ids.size() >= 3)
+      {
+        closed = true;
+        break;
+      }
+      int next = -1;
+      bool flip = false;
+      for (size_t j = 0; j < map.segments.size() && next < 0; ++j)
+      {
+        if (in_chain[j] || used[j])
+          continue;
+        if (close(map.segments[j].p0_world, end))
+          next = static_cast<int>(j);
+        else if (close(map.segments[j].p1_world, end))
+        {
+          next = static_cast<int>(j);
+          flip = true;
+        }
+      }
+      if (next < 0)
+        break;
+      in_chain[next] = true;
+      poly.segment_ids.push_back(next);
+      poly.corners_world.push_back(end);
+      end = flip ? map.segments[next].p0_world : map.segments[next].p1_world;
+    }
+    if (!closed)
+      continue;
+    for (int id : poly.segment_ids)
+      used[id] = true;
+    // Planarity.
+    Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+    for (const auto& c : poly.corners_world)
+      centroid += c;
+    centroid /= static_cast<double>(poly.corners_world.size());
+    Eigen::MatrixXd a(poly.corners_world.size(), 3);
+    for (size_t k = 0; k < poly.corners_world.size(); ++k)
+      a.row(k) = (poly.corners_world[k] - centroid).transpose();
+    Eigen::JacobiSVD<Eigen::MatrixXd> svd(a, Eigen::ComputeThinV);
+    const Eigen::Vector3d normal = svd.matrixV().col(2);
+    poly.planar = true;
+    for (const auto& c : poly.corners_world)
+      if (std::abs(normal.dot(c - centroid)) > 1e-3)
+        poly.planar = false;
+    map.polygons.push_back(poly);
+  }
+  if (map.polygons.empty())
+    throw LineMapError(name + ": the segments form no closed polygon (initialisation needs at least one; "
+                              "endpoints must coincide within 1 mm)");
+}
+
+LineMap parseLineMap(const std::string& yaml_text, const std::string& name)
+{
+  YAML::Node root;
+  try
+  {
+    root = YAML::Load(yaml_text);
+  }
+  catch (const YAML::Exception& e)
+  {
+    throw LineMapError(name + ": not valid YAML: " + e.what());
+  }
+  if (!root.IsMap())
+    throw LineMapError(name + ": expected a YAML mapping with 'segments'");
+  LineMap map;
+  if (root["frame_id"])
+    map.frame_id = root["frame_id"].as<std::string>();
+  try
+  {
+    if (root["up"])
+      map.up_world = readVector3(root["up"], "'up'");
+    const YAML::Node segs = root["segments"];
+    if (!segs || !segs.IsSequence() || segs.size() == 0)
+      throw LineMapError("'segments' is missing or empty");
+    for (size_t i = 0; i < segs.size(); ++i)
+    {
+      const std::string what = "segment " + std::to_string(i);
+      if (!segs[i].IsSequence() || segs[i].size() != 2)
+        throw LineMapError(what + " must be a pair of 3D points [[x,y,z],[x,y,z]]");
+      map.segments.push_back({readVector3(segs[i][0], what + " start"), readVector3(segs[i][1], what + " end")});
+    }
+  }
+  catch (const LineMapError& e)
+  {
+    throw LineMapError(name + ": " + e.what());
+  }
+  finalizeLineMap(map, name);
+  return map;
+}
+
+LineMap loadLineMap(const std::string& path)
+{
+  std::ifstream in(path);
+  if (!in)
+    throw LineMapError("cannot open map file '" + path + "'");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return parseLineMap(ss.str(), path);
+}
+
+std::string lineMapToYaml(const LineMap& map)
+{
+  std::ostringstream out;
+  out.precision(9);
+  auto v = [&](const Eigen::Vector3d& p) { out << "[" << p.x() << ", " << p.y() << ", " << p.z() << "]"; };
+  out << "frame_id: " << map.frame_id << "\nup: ";
+  v(map.up_world);
+  out << "\nsegments:\n";
+  for (const auto& s : map.segments)
+  {
+    out << "  - [";
+    v(s.p0_world);
+    out << ", ";
+    v(s.p1_world);
+    out << "]\n";
+  }
+  return out.str();
+}
+}  // namespace dvs_line_tracker

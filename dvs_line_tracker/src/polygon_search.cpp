@@ -1,0 +1,209 @@
+#include <dvs_line_tracker/polygon_search.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+namespace dvs_line_tracker
+{
+double ImagePolygon::perimeter() const
+{
+  double p = 0;
+  for (size_t k = 0; k < corners.size(); ++k)
+    p += (corners[(k + 1) % corners.size()] - corners[k]).norm();
+  return p;
+}
+
+double ImagePolygon::signedArea() const
+{
+  double a = 0;
+  for (size_t k = 0; k < corners.size(); ++k)
+  {
+    const auto& p = corners[k];
+    const auto& q = corners[(k + 1) % corners.size()];
+    a += p.x() * q.y() - q.x() * p.y();
+  }
+  return a / 2;
+}
+
+bool intersectLines(const ImageSegment& a, const ImageSegment& b, Eigen::Vector2d& point)
+{
+  const Eigen::Vector2d da = a.p1 - a.p0, db = b.p1 - b.p0;
+  const double denom = da.x() * db.y() - da.y() * db.x();
+  if (std::abs(denom) < 1e-9 * da.norm() * db.norm())
+    return false;
+  const Eigen::Vector2d w = b.p0 - a.p0;
+  const double t = (w.x() * db.y() - w.y() * db.x()) / denom;
+  point = a.p0 + t * da;
+  return true;
+}
+
+namespace
+{
+struct Oriented
+{
+  int id;
+  Eigen::Vector2d near_end, far_end;
+  Eigen::Vector2d dir() const { return (far_end - near_end).normalized(); }
+  double length() const { return (far_end - near_end).norm(); }
+};
+
+double cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); }
+
+class Search
+{
+public:
+  Search(const std::vector<ImageSegment>& segs, int n, const PolygonSearchParams& p) : segs_(segs), n_(n), p_(p)
+  {
+    cos_min_ = std::cos(p.max_turn_angle_deg * M_PI / 180.0);
+    cos_max_ = std::cos(p.min_turn_angle_deg * M_PI / 180.0);
+    order_.resize(segs.size());
+    std::iota(order_.begin(), order_.end(), 0);
+    std::stable_sort(order_.begin(), order_.end(), [&](int a, int b) { return segs[a].length() > segs[b].length(); });
+    used_.assign(segs.size(), false);
+  }
+
+  /// Collect up to `max` polygons with distinct segment sets.
+  void runAll(std::vector<ImagePolygon>& found, int max)
+  {
+    collect_ = &found;
+    max_ = max;
+    ImagePolygon dummy;
+    run(dummy);
+  }
+
+  bool run(ImagePolygon& out)
+  {
+    for (int id : order_)
+      for (int end = 0; end < 2; ++end)
+      {
+        const auto& s = segs_[id];
+        Oriented first{id, end == 0 ? s.p0 : s.p1, end == 0 ? s.p1 : s.p0};
+        chain_.assign(1, first);
+        used_[id] = true;
+        const bool found = extend(out);
+        used_[id] = false;
+        if (found)
+          return true;
+        if (steps_ > p_.max_steps)
+          return false;
+      }
+    return false;
+  }
+
+private:
+  bool turnOk(const Oriented& a, const Oriented& b) const
+  {
+    const double c = a.dir().dot(b.dir());
+    return c >= cos_min_ && c <= cos_max_ && cross(a.dir(), b.dir()) > 0;
+  }
+
+  bool closes(ImagePolygon& out) const
+  {
+    const Oriented& last = chain_.back();
+    const Oriented& first = chain_.front();
+    if ((last.far_end - first.near_end).norm() > p_.corner_proximity_ratio * last.length())
+      return false;
+    if (!turnOk(last, first))
+      return false;
+    ImagePolygon poly;
+    for (int k = 0; k < n_; ++k)
+    {
+      const Oriented& prev = chain_[(k + n_ - 1) % n_];
+      const Oriented& cur = chain_[k];
+      Eigen::Vector2d corner;
+      if (!intersectLines({prev.near_end, prev.far_end, 0}, {cur.near_end, cur.far_end, 0}, corner))
+        return false;
+      // The corner must be near both segments' ends.
+      if ((corner - cur.near_end).norm() > p_.corner_proximity_ratio * std::max(cur.length(), prev.length()) + 3.0 ||
+          (corner - prev.far_end).norm() > p_.corner_proximity_ratio * std::max(cur.length(), prev.length()) + 3.0)
+        return false;
+      poly.corners.push_back(corner);
+      poly.segment_ids.push_back(cur.id);
+    }
+    for (int k = 0; k < n_; ++k)
+      if ((poly.corners[(k + 1) % n_] - poly.corners[k]).norm() < p_.min_side_px)
+        return false;
+    out = poly;
+    return true;
+  }
+
+  bool extend(ImagePolygon& out)
+  {
+    if (++steps_ > p_.max_steps)
+      return false;
+    if (static_cast<int>(chain_.size()) == n_)
+    {
+      if (!closes(out))
+        return false;
+      if (!collect_)
+        return true;
+      std::vector<int> ids = out.segment_ids;
+      std::sort(ids.begin(), ids.end());
+      for (const auto& f : *collect_)
+      {
+        std::vector<int> other = f.segment_ids;
+        std::sort(other.begin(), other.end());
+        if (other == ids)
+          return false;
+      }
+      collect_->push_back(out);
+      return static_cast<int>(collect_->size()) >= max_;
+    }
+    const Oriented cur = chain_.back();
+    const double reach = p_.corner_proximity_ratio * cur.length();
+    for (int id : order_)
+    {
+      if (used_[id])
+        continue;
+      const auto& s = segs_[id];
+      for (int end = 0; end < 2; ++end)
+      {
+        Oriented next{id, end == 0 ? s.p0 : s.p1, end == 0 ? s.p1 : s.p0};
+        if ((next.near_end - cur.far_end).norm() > reach || !turnOk(cur, next))
+          continue;
+        chain_.push_back(next);
+        used_[id] = true;
+        const bool found = extend(out);
+        used_[id] = false;
+        chain_.pop_back();
+        if (found)
+          return true;
+      }
+    }
+    return false;
+  }
+
+  const std::vector<ImageSegment>& segs_;
+  int n_;
+  PolygonSearchParams p_;
+  double cos_min_, cos_max_;
+  std::vector<int> order_;
+  std::vector<bool> used_;
+  std::vector<Oriented> chain_;
+  int steps_ = 0;
+  std::vector<ImagePolygon>* collect_ = nullptr;
+  int max_ = 1;
+};
+}  // namespace
+
+bool findPolygon(const std::vector<ImageSegment>& segments, int num_sides, const PolygonSearchParams& params,
+                 ImagePolygon& polygon)
+{
+  if (num_sides < 3 || static_cast<int>(segments.size()) < num_sides)
+    return false;
+  Search search(segments, num_sides, params);
+  return search.run(polygon);
+}
+
+std::vector<ImagePolygon> findPolygons(const std::vector<ImageSegment>& segments, int num_sides,
+                                       const PolygonSearchParams& params, int max_polygons)
+{
+  std::vector<ImagePolygon> found;
+  if (num_sides < 3 || static_cast<int>(segments.size()) < num_sides || max_polygons < 1)
+    return found;
+  Search search(segments, num_sides, params);
+  search.runAll(found, max_polygons);
+  return found;
+}
+}  // namespace dvs_line_tracker

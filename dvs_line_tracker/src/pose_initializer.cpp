@@ -1,0 +1,221 @@
+#include <dvs_line_tracker/pose_initializer.h>
+
+#include <ceres/ceres.h>
+#include <ceres/rotation.h>
+#include <opencv2/calib3d.hpp>
+#include <opencv2/core/eigen.hpp>
+
+#include <cmath>
+#include <limits>
+
+namespace dvs_line_tracker
+{
+namespace
+{
+struct CornerReprojection
+{
+  CornerReprojection(const Eigen::Vector2d& obs, const Eigen::Vector3d& world, const PinholeK& k)
+    : obs_(obs), world_(world), k_(k)
+  {
+  }
+  template <typename T>
+  bool operator()(const T* const aa, const T* const t, T* residual) const
+  {
+    const T pw[3] = {T(world_.x()), T(world_.y()), T(world_.z())};
+    T pc[3];
+    ceres::AngleAxisRotatePoint(aa, pw, pc);
+    pc[0] += t[0];
+    pc[1] += t[1];
+    pc[2] += t[2];
+    residual[0] = T(k_.fx) * pc[0] / pc[2] + T(k_.cx) - T(obs_.x());
+    residual[1] = T(k_.fy) * pc[1] / pc[2] + T(k_.cy) - T(obs_.y());
+    return true;
+  }
+  Eigen::Vector2d obs_;
+  Eigen::Vector3d world_;
+  PinholeK k_;
+};
+
+double upScore(const CameraPose& pose, const PinholeK& k, const std::vector<Eigen::Vector3d>& world,
+               const Eigen::Vector3d& up)
+{
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  double size = 0;
+  for (const auto& p : world)
+    centre += p;
+  centre /= static_cast<double>(world.size());
+  for (const auto& p : world)
+    size = std::max(size, (p - centre).norm());
+  const Eigen::Vector3d a = pose.toCamera(centre), b = pose.toCamera(centre + 0.1 * size * up);
+  if (a.z() <= 0 || b.z() <= 0)
+    return -1;
+  const Eigen::Vector2d v = k.project(b) - k.project(a);
+  if (v.norm() < 1e-6)
+    return 0;
+  return -v.y() / v.norm();
+}
+}  // namespace
+
+double cornerReprojectionRms(const CameraPose& pose, const PinholeK& k, const std::vector<Eigen::Vector2d>& image,
+                             const std::vector<Eigen::Vector3d>& world)
+{
+  double sum = 0;
+  for (size_t i = 0; i < image.size(); ++i)
+  {
+    const Eigen::Vector3d pc = pose.toCamera(world[i]);
+    if (pc.z() <= 1e-6)
+      return std::numeric_limits<double>::infinity();
+    sum += (k.project(pc) - image[i]).squaredNorm();
+  }
+  return std::sqrt(sum / static_cast<double>(image.size()));
+}
+
+CameraPose refinePoseReprojection(const CameraPose& initial, const PinholeK& k,
+                                  const std::vector<Eigen::Vector2d>& image, const std::vector<Eigen::Vector3d>& world)
+{
+  double aa[3], t[3];
+  const Eigen::AngleAxisd angle_axis(initial.R_cam_world);
+  const Eigen::Vector3d aav = angle_axis.angle() * angle_axis.axis();
+  for (int i = 0; i < 3; ++i)
+  {
+    aa[i] = aav[i];
+    t[i] = initial.t_cam_world[i];
+  }
+  ceres::Problem problem;
+  for (size_t i = 0; i < image.size(); ++i)
+    problem.AddResidualBlock(new ceres::AutoDiffCostFunction<CornerReprojection, 2, 3, 3>(
+                                 new CornerReprojection(image[i], world[i], k)),
+                             nullptr, aa, t);
+  ceres::Solver::Options options;
+  options.linear_solver_type = ceres::DENSE_QR;
+  options.max_num_iterations = 20;
+  options.logging_type = ceres::SILENT;
+  ceres::Solver::Summary summary;
+  ceres::Solve(options, &problem, &summary);
+  CameraPose out;
+  const Eigen::Vector3d w(aa[0], aa[1], aa[2]);
+  out.R_cam_world = w.norm() > 1e-12 ? Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix()
+                                     : Eigen::Matrix3d::Identity();
+  out.t_cam_world = Eigen::Vector3d(t[0], t[1], t[2]);
+  if (!out.R_cam_world.allFinite() || !out.t_cam_world.allFinite())
+    return initial;
+  return out;
+}
+
+bool estimateInitialPose(const std::vector<Eigen::Vector2d>& corners_ideal_px, const LineMap& map, const PinholeK& k,
+                         const PoseInitParams& params, InitialPose& result)
+{
+  const int n = static_cast<int>(corners_ideal_px.size());
+  if (n < 3)
+    return false;
+  const cv::Matx33d K(k.fx, 0, k.cx, 0, k.fy, k.cy, 0, 0, 1);
+  std::vector<cv::Point2d> image_cv;
+  for (const auto& c : corners_ideal_px)
+    image_cv.emplace_back(c.x(), c.y());
+
+  bool found = false;
+  InitialPose best;
+  for (size_t pi = 0; pi < map.polygons.size(); ++pi)
+  {
+    const MapPolygon& poly = map.polygons[pi];
+    if (static_cast<int>(poly.corners_world.size()) != n)
+      continue;
+    for (int direction = 0; direction < 2; ++direction)
+      for (int shift = 0; shift < n; ++shift)
+      {
+        std::vector<int> assignment(n);
+        std::vector<cv::Point3d> world_cv;
+        std::vector<Eigen::Vector3d> world;
+        for (int i = 0; i < n; ++i)
+        {
+          assignment[i] = direction == 0 ? (shift + i) % n : (shift - i + n) % n;
+          world.push_back(poly.corners_world[assignment[i]]);
+          world_cv.emplace_back(world.back().x(), world.back().y(), world.back().z());
+        }
+        // IPPE for planar polygons; it degenerates (NaN) for exactly fronto-parallel views,
+        // where SQPnP takes over.
+        CameraPose pose;
+        double rms = std::numeric_limits<double>::infinity();
+        for (const int method : {cv::SOLVEPNP_IPPE, cv::SOLVEPNP_SQPNP})
+        {
+          if (method == cv::SOLVEPNP_IPPE && !(poly.planar && n >= 4))
+            continue;
+          cv::Vec3d rvec, tvec;
+          bool ok = false;
+          try
+          {
+            ok = cv::solvePnP(world_cv, image_cv, K, cv::noArray(), rvec, tvec, false, method);
+          }
+          catch (const cv::Exception&)
+          {
+            ok = false;
+          }
+          if (!ok || !std::isfinite(rvec[0] + rvec[1] + rvec[2] + tvec[0] + tvec[1] + tvec[2]))
+            continue;
+          cv::Matx33d Rcv;
+          cv::Rodrigues(rvec, Rcv);
+          CameraPose candidate;
+          for (int r = 0; r < 3; ++r)
+          {
+            for (int c = 0; c < 3; ++c)
+              candidate.R_cam_world(r, c) = Rcv(r, c);
+            candidate.t_cam_world[r] = tvec[r];
+          }
+          const double candidate_rms = cornerReprojectionRms(candidate, k, corners_ideal_px, world);
+          if (candidate_rms < rms)
+          {
+            rms = candidate_rms;
+            pose = candidate;
+          }
+          if (rms < 0.5)
+            break;
+        }
+        if (!(rms <= params.max_reprojection_rms_px))
+          continue;
+        // Map polygons are listed counter-clockwise seen from the side they are viewed from:
+        // a camera behind the polygon (a mirrored solution) is heavily penalised.
+        double score = upScore(pose, k, world, map.up_world);
+        if (poly.planar && n >= 3)
+        {
+          Eigen::Vector3d normal = Eigen::Vector3d::Zero(), centroid = Eigen::Vector3d::Zero();
+          for (int i = 0; i < n; ++i)
+          {
+            normal += poly.corners_world[i].cross(poly.corners_world[(i + 1) % n]);
+            centroid += poly.corners_world[i];
+          }
+          centroid /= n;
+          if (normal.dot(pose.positionWorld() - centroid) < 0)
+            score -= 10.0;
+        }
+        const bool better = !found || score > best.up_score + 1e-6 ||
+                            (std::abs(score - best.up_score) <= 1e-6 && rms < best.reprojection_rms_px);
+        if (better)
+        {
+          found = true;
+          best.pose = pose;
+          best.reprojection_rms_px = rms;
+          best.up_score = score;
+          best.polygon_index = static_cast<int>(pi);
+          best.corner_assignment = assignment;
+        }
+      }
+  }
+  if (!found)
+    return false;
+  if (params.refine)
+  {
+    std::vector<Eigen::Vector3d> world;
+    for (int i = 0; i < n; ++i)
+      world.push_back(map.polygons[best.polygon_index].corners_world[best.corner_assignment[i]]);
+    const CameraPose refined = refinePoseReprojection(best.pose, k, corners_ideal_px, world);
+    const double rms = cornerReprojectionRms(refined, k, corners_ideal_px, world);
+    if (rms <= best.reprojection_rms_px + 1e-9)
+    {
+      best.pose = refined;
+      best.reprojection_rms_px = rms;
+    }
+  }
+  result = best;
+  return true;
+}
+}  // namespace dvs_line_tracker

@@ -1,0 +1,18 @@
+// tracker_node: runs TrackerRos (the class the nodelet loads) in its own process.
+#include <dvs_line_tracker/tracker_ros.h>
+
+int main(int argc, char** argv)
+{
+  ros::init(argc, argv, "dvs_line_tracker");
+  try
+  {
+    dvs_line_tracker::TrackerRos tracker(ros::NodeHandle(), ros::NodeHandle("~"));
+    ros::spin();
+  }
+  catch (const std::exception& e)
+  {
+    ROS_FATAL("dvs_line_tracker: %s", e.what());
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,322 @@
+#include <dvs_line_tracker/tracker_params.h>
+#include <dvs_line_tracker/tracker_ros.h>
+
+#include <cv_bridge/cv_bridge.h>
+#include <dvs_driver/event_bag_io.h>
+#include <geometry_msgs/PoseArray.h>
+#include <geometry_msgs/PoseStamped.h>
+#include <geometry_msgs/TransformStamped.h>
+#include <opencv2/imgproc.hpp>
+#include <std_msgs/String.h>
+#include <visualization_msgs/MarkerArray.h>
+
+#include <stdexcept>
+
+namespace dvs_line_tracker
+{
+namespace
+{
+geometry_msgs::Pose toPoseMsg(const CameraPose& pose)
+{
+  geometry_msgs::Pose p;
+  const Eigen::Vector3d t = pose.positionWorld();
+  const Eigen::Quaterniond q = pose.q_world_cam();
+  p.position.x = t.x();
+  p.position.y = t.y();
+  p.position.z = t.z();
+  p.orientation.x = q.x();
+  p.orientation.y = q.y();
+  p.orientation.z = q.z();
+  p.orientation.w = q.w();
+  return p;
+}
+
+dvs_calibration::CameraModel cameraFromInfo(const sensor_msgs::CameraInfo& info)
+{
+  dvs_calibration::CameraIntrinsics k;
+  k.width = static_cast<int>(info.width);
+  k.height = static_cast<int>(info.height);
+  k.fx = info.K[0];
+  k.fy = info.K[4];
+  k.cx = info.K[2];
+  k.cy = info.K[5];
+  if (!info.D.empty() && info.distortion_model != "plumb_bob")
+    throw std::runtime_error("camera_info distortion_model '" + info.distortion_model + "' is not plumb_bob");
+  double* const d[5] = {&k.k1, &k.k2, &k.p1, &k.p2, &k.k3};
+  for (size_t i = 0; i < info.D.size() && i < 5; ++i)
+    *d[i] = info.D[i];
+  return dvs_calibration::CameraModel(k);
+}
+}  // namespace
+
+TrackerRos::TrackerRos(ros::NodeHandle nh, ros::NodeHandle pnh) : nh_(nh), pnh_(pnh), diagnostics_(nh, pnh)
+{
+  // Tracker parameters: every one has a default; ROS overrides, then validation.
+  forEachParam(params_, [&](const ParamRef& r) {
+    if (r.d)
+      pnh_.param(r.name, *r.d, *r.d);
+    else if (r.i)
+      pnh_.param(r.name, *r.i, *r.i);
+    else
+      pnh_.param(r.name, *r.b, *r.b);
+  });
+  std::string solver = solverTypeName(params_.estimator.solver);
+  pnh_.param<std::string>("solver", solver, solver);
+  if (!parseSolverType(solver, params_.estimator.solver))
+    throw std::runtime_error("parameter ~solver must be 'incremental' or 'full' (got '" + solver + "')");
+  const std::string err = validateParams(params_);
+  if (!err.empty())
+    throw std::runtime_error("invalid parameters: " + err);
+
+  std::string map_file, calibration_file;
+  pnh_.param<std::string>("map_file", map_file, "");
+  pnh_.param<std::string>("calibration_file", calibration_file, "");
+  pnh_.param<std::string>("world_frame", world_frame_, "world");
+  pnh_.param<std::string>("camera_frame", camera_frame_, "dvs");
+  pnh_.param("publish_per_event_poses", publish_per_event_, true);
+  pnh_.param("image_rate", image_rate_hz_, 30.0);
+  pnh_.param("marker_rate", marker_rate_hz_, 10.0);
+  if (!(image_rate_hz_ > 0) || !(marker_rate_hz_ > 0))
+    throw std::runtime_error("parameters ~image_rate and ~marker_rate must be positive");
+  if (world_frame_.empty() || camera_frame_.empty())
+    throw std::runtime_error("parameters ~world_frame and ~camera_frame must not be empty");
+  map_ = map_file.empty() ? defaultSquareMap() : loadLineMap(map_file);  // throws naming the file
+
+  pose_pub_ = pnh_.advertise<geometry_msgs::PoseStamped>("pose", 10000);
+  poses_pub_ = pnh_.advertise<geometry_msgs::PoseArray>("poses", 1000);
+  markers_pub_ = pnh_.advertise<visualization_msgs::MarkerArray>("markers", 1, true);
+  state_pub_ = pnh_.advertise<std_msgs::String>("state", 10, true);
+  image_transport::ImageTransport it(pnh_);
+  image_pub_ = it.advertise("image", 1);
+
+  diagnostics_.setHardwareID("dvs_line_tracker");
+  diagnostics_.add("tracker", this, &TrackerRos::diagnose);
+  diagnostics_timer_ = nh_.createTimer(ros::Duration(1.0), [this](const ros::TimerEvent&) { diagnostics_.update(); });
+
+  if (!calibration_file.empty())
+  {
+    // calib.txt (fx fy cx cy k1 k2 p1 p2 k3) or camera_info YAML, by extension.
+    const bool yaml = calibration_file.size() > 5 &&
+                      (calibration_file.rfind(".yaml") == calibration_file.size() - 5 ||
+                       calibration_file.rfind(".yml") == calibration_file.size() - 4);
+    int width = 128, height = 128;
+    pnh_.param("width", width, 128);
+    pnh_.param("height", height, 128);
+    startTracker(yaml ? dvs_calibration::loadCameraInfoYaml(calibration_file)
+                      : dvs_calibration::loadCalibTxt(calibration_file, width, height));
+  }
+  else
+    camera_info_sub_ = nh_.subscribe("dvs/camera_info", 1, &TrackerRos::onCameraInfo, this);
+  events_sub_ = nh_.subscribe("dvs/events", 1000, &TrackerRos::onEvents, this, ros::TransportHints().tcpNoDelay());
+  std_msgs::String state;
+  state.data = toString(TrackerState::kInitializing);
+  state_pub_.publish(state);
+}
+
+void TrackerRos::startTracker(const dvs_calibration::CameraModel& camera)
+{
+  tracker_ = std::make_unique<LineTracker>(camera, map_, params_);
+  ROS_INFO("dvs_line_tracker: tracking %zu segments (%zu polygons) with a %dx%d camera", map_.segments.size(),
+           map_.polygons.size(), camera.width(), camera.height());
+}
+
+void TrackerRos::onCameraInfo(const sensor_msgs::CameraInfoConstPtr& msg)
+{
+  if (tracker_)
+    return;
+  try
+  {
+    startTracker(cameraFromInfo(*msg));
+    camera_info_sub_.shutdown();
+  }
+  catch (const std::exception& e)
+  {
+    ROS_ERROR_THROTTLE(5.0, "dvs_line_tracker: unusable camera_info: %s", e.what());
+  }
+}
+
+void TrackerRos::onEvents(const dvs_msgs::EventArrayConstPtr& msg)
+{
+  if (!tracker_)
+  {
+    ROS_WARN_THROTTLE(5.0, "dvs_line_tracker: no camera calibration yet (waiting for dvs/camera_info): events dropped");
+    return;
+  }
+  const bool per_event = publish_per_event_ && pose_pub_.getNumSubscribers() > 0;
+  const bool batched = poses_pub_.getNumSubscribers() > 0;
+  geometry_msgs::PoseArrayPtr poses;
+  if (batched)
+  {
+    poses = boost::make_shared<geometry_msgs::PoseArray>();
+    poses->header.frame_id = world_frame_;
+    poses->poses.reserve(msg->events.size());
+  }
+  int64_t last_update_ns = 0;
+  bool any_update = false;
+  dvs_driver::Event e;
+  for (const auto& m : msg->events)
+  {
+    e.t_ns = dvs_driver::rosTimeToNs(m.ts);
+    e.x = m.x;
+    e.y = m.y;
+    e.polarity = m.polarity;
+    if (!tracker_->processEvent(e))
+      continue;
+    any_update = true;
+    last_update_ns = e.t_ns;
+    ++updates_since_diag_;
+    if (per_event)
+    {
+      geometry_msgs::PoseStampedPtr p = boost::make_shared<geometry_msgs::PoseStamped>();
+      p->header.stamp = m.ts;
+      p->header.frame_id = world_frame_;
+      p->pose = toPoseMsg(tracker_->pose());
+      pose_pub_.publish(p);
+    }
+    if (batched)
+      poses->poses.push_back(toPoseMsg(tracker_->pose()));
+  }
+  events_since_diag_ += msg->events.size();
+  if (batched && !poses->poses.empty())
+  {
+    poses->header.stamp = msg->events.back().ts;
+    poses_pub_.publish(poses);
+  }
+  publishPacket(*msg, last_update_ns, any_update);
+  diagnostics_.update();
+}
+
+void TrackerRos::publishPacket(const dvs_msgs::EventArray& msg, int64_t last_update_ns, bool any_update)
+{
+  if (tracker_->state() != last_state_)
+  {
+    last_state_ = tracker_->state();
+    std_msgs::String state;
+    state.data = toString(last_state_);
+    if (last_state_ == TrackerState::kLost)
+      state.data += ": " + tracker_->lastLossReason();
+    state_pub_.publish(state);
+    if (last_state_ == TrackerState::kLost)
+      ROS_WARN("dvs_line_tracker: track lost (%s), re-initialising", tracker_->lastLossReason().c_str());
+    else
+      ROS_INFO("dvs_line_tracker: %s", toString(last_state_));
+    diagnostics_.force_update();
+  }
+  if (any_update && tracker_->state() == TrackerState::kTracking)
+  {
+    geometry_msgs::TransformStamped tf;
+    tf.header.stamp.fromNSec(static_cast<uint64_t>(last_update_ns));
+    tf.header.frame_id = world_frame_;
+    tf.child_frame_id = camera_frame_;
+    const geometry_msgs::Pose p = toPoseMsg(tracker_->pose());
+    tf.transform.translation.x = p.position.x;
+    tf.transform.translation.y = p.position.y;
+    tf.transform.translation.z = p.position.z;
+    tf.transform.rotation = p.orientation;
+    tf_.sendTransform(tf);
+  }
+  const ros::Time stamp = msg.events.empty() ? msg.header.stamp : msg.events.back().ts;
+  if (markers_pub_.getNumSubscribers() > 0 && (stamp - last_markers_).toSec() >= 1.0 / marker_rate_hz_)
+  {
+    last_markers_ = stamp;
+    publishMarkers(stamp);
+  }
+  if (image_pub_.getNumSubscribers() > 0 && (stamp - last_image_).toSec() >= 1.0 / image_rate_hz_)
+  {
+    last_image_ = stamp;
+    publishImage(msg);
+  }
+}
+
+void TrackerRos::publishMarkers(const ros::Time& stamp)
+{
+  visualization_msgs::MarkerArrayPtr arr = boost::make_shared<visualization_msgs::MarkerArray>();
+  visualization_msgs::Marker map_marker;
+  map_marker.header.frame_id = world_frame_;
+  map_marker.header.stamp = stamp;
+  map_marker.ns = "map";
+  map_marker.type = visualization_msgs::Marker::LINE_LIST;
+  map_marker.scale.x = 0.02;
+  map_marker.color.g = map_marker.color.a = 1.0;
+  map_marker.pose.orientation.w = 1.0;
+  for (const auto& s : map_.segments)
+    for (const auto* p : {&s.p0_world, &s.p1_world})
+    {
+      geometry_msgs::Point pt;
+      pt.x = p->x();
+      pt.y = p->y();
+      pt.z = p->z();
+      map_marker.points.push_back(pt);
+    }
+  arr->markers.push_back(map_marker);
+  // Projected segments as lines on the camera's normalised image plane (z = 1 m in the dvs frame).
+  visualization_msgs::Marker proj = map_marker;
+  proj.header.frame_id = camera_frame_;
+  proj.ns = "projected_segments";
+  proj.id = 1;
+  proj.points.clear();
+  proj.scale.x = 0.005;
+  proj.color.g = 0;
+  proj.color.r = 1.0;
+  const PinholeK& k = tracker_->intrinsics();
+  if (tracker_->state() == TrackerState::kTracking)
+    for (const auto& s : tracker_->projectedSegments())
+      for (const auto* p : {&s.a, &s.b})
+      {
+        geometry_msgs::Point pt;
+        pt.x = (p->x() - k.cx) / k.fx;
+        pt.y = (p->y() - k.cy) / k.fy;
+        pt.z = 1.0;
+        proj.points.push_back(pt);
+      }
+  if (proj.points.empty())
+    proj.action = visualization_msgs::Marker::DELETE;
+  arr->markers.push_back(proj);
+  markers_pub_.publish(arr);
+}
+
+void TrackerRos::publishImage(const dvs_msgs::EventArray& msg)
+{
+  // Events of the packet (undistorted positions: ON white, OFF grey) and the tracked segments.
+  const int w = static_cast<int>(tracker_->intrinsics().cx * 2 + 1), h = static_cast<int>(tracker_->intrinsics().cy * 2 + 1);
+  cv::Mat img(std::max(h, 1), std::max(w, 1), CV_8UC3, cv::Scalar(0, 0, 0));
+  for (const auto& e : msg.events)
+    if (e.x < img.cols && e.y < img.rows)
+      img.at<cv::Vec3b>(e.y, e.x) = e.polarity ? cv::Vec3b(255, 255, 255) : cv::Vec3b(128, 128, 128);
+  if (tracker_->state() == TrackerState::kTracking)
+    for (const auto& s : tracker_->projectedSegments())
+      cv::line(img, cv::Point2d(s.a.x(), s.a.y()), cv::Point2d(s.b.x(), s.b.y()), cv::Scalar(0, 0, 255), 1,
+               cv::LINE_AA);
+  std_msgs::Header header;
+  header.stamp = msg.events.empty() ? msg.header.stamp : msg.events.back().ts;
+  header.frame_id = camera_frame_;
+  image_pub_.publish(cv_bridge::CvImage(header, "bgr8", img).toImageMsg());
+}
+
+void TrackerRos::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat)
+{
+  const double dt = std::max(1e-6, (ros::WallTime::now() - last_diag_).toSec());
+  last_diag_ = ros::WallTime::now();
+  if (!tracker_)
+  {
+    stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "waiting for the camera calibration");
+    return;
+  }
+  const TrackerState s = tracker_->state();
+  stat.summary(s == TrackerState::kTracking ? diagnostic_msgs::DiagnosticStatus::OK
+                                            : diagnostic_msgs::DiagnosticStatus::WARN,
+               toString(s));
+  const auto& st = tracker_->stats();
+  stat.add("state", toString(s));
+  stat.add("event rate [ev/s]", events_since_diag_ / dt);
+  stat.add("pose update rate [1/s]", updates_since_diag_ / dt);
+  stat.add("events", st.events);
+  stat.add("events attributed", st.events_attributed);
+  stat.add("pose updates", st.pose_updates);
+  stat.add("initializations", st.initializations);
+  stat.add("re-initializations", st.reinitializations);
+  stat.add("losses", st.losses);
+  stat.add("last loss reason", tracker_->lastLossReason());
+  events_since_diag_ = updates_since_diag_ = 0;
+}
+}  // namespace dvs_line_tracker

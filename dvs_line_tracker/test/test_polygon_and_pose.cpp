@@ -1,0 +1,182 @@
+// Polygon search on synthetic segments and exact pose from noise-free corners.
+#include <dvs_line_tracker/polygon_search.h>
+#include <dvs_line_tracker/pose_initializer.h>
+#include <dvs_line_tracker/synthetic_events.h>
+
+#include <gtest/gtest.h>
+
+using namespace dvs_line_tracker;
+
+namespace
+{
+const PinholeK kK{115, 115, 63.5, 63.5};
+
+ImageSegment seg(double x0, double y0, double x1, double y1, int n = 50)
+{
+  return ImageSegment{{x0, y0}, {x1, y1}, n};
+}
+
+// The four sides of a projected square, shortened at the corners like Hough segments are.
+std::vector<ImageSegment> sidesOf(const std::vector<Eigen::Vector2d>& corners, double shorten_px)
+{
+  std::vector<ImageSegment> out;
+  for (size_t k = 0; k < corners.size(); ++k)
+  {
+    const Eigen::Vector2d a = corners[k], b = corners[(k + 1) % corners.size()];
+    const Eigen::Vector2d d = (b - a).normalized();
+    out.push_back({a + shorten_px * d, b - shorten_px * d, 60});
+  }
+  return out;
+}
+
+std::vector<Eigen::Vector2d> projectCorners(const LineMap& map, const CameraPose& pose)
+{
+  std::vector<Eigen::Vector2d> c;
+  for (const auto& p : map.polygons[0].corners_world)
+    c.push_back(kK.project(pose.toCamera(p)));
+  return c;
+}
+}  // namespace
+
+TEST(PolygonSearch, FindsASquareAmongDistractorsWithCornersAtTheIntersections)
+{
+  std::vector<ImageSegment> segs = {
+      seg(30, 25, 95, 25),    // top (shortened ends)
+      seg(100, 30, 100, 95),  // right
+      seg(95, 100, 30, 100),  // bottom
+      seg(25, 95, 25, 30),    // left
+      seg(5, 5, 60, 10),      // distractors
+      seg(110, 5, 120, 120),
+      seg(40, 60, 80, 62),
+  };
+  // Shuffle the order and flip some directions: the search must not depend on them.
+  std::swap(segs[0], segs[5]);
+  std::swap(segs[1].p0, segs[1].p1);
+  ImagePolygon poly;
+  ASSERT_TRUE(findPolygon(segs, 4, PolygonSearchParams(), poly));
+  ASSERT_EQ(poly.corners.size(), 4u);
+  std::vector<Eigen::Vector2d> expected = {{25, 25}, {100, 25}, {100, 100}, {25, 100}};
+  for (const auto& e : expected)
+  {
+    double best = 1e9;
+    for (const auto& c : poly.corners)
+      best = std::min(best, (c - e).norm());
+    EXPECT_LT(best, 1e-9) << e.transpose();
+  }
+  for (int id : poly.segment_ids)
+    EXPECT_TRUE(id != 4 && id != 0 && id != 6) << "distractor used: " << id;
+}
+
+TEST(PolygonSearch, RejectsOpenChainsBadAnglesAndTinyPolygons)
+{
+  ImagePolygon poly;
+  // Three sides only.
+  EXPECT_FALSE(findPolygon({seg(30, 25, 95, 25), seg(100, 30, 100, 95), seg(95, 100, 30, 100)}, 4,
+                           PolygonSearchParams(), poly));
+  // A rhombus with 30 deg corners: turn angles outside 45..135 deg.
+  const double s = 60, a = 30 * M_PI / 180;
+  const Eigen::Vector2d p0(20, 60), p1 = p0 + Eigen::Vector2d(s, 0), p3 = p0 + s * Eigen::Vector2d(std::cos(a), -std::sin(a)),
+                        p2 = p1 + (p3 - p0);
+  EXPECT_FALSE(findPolygon(sidesOf({p0, p1, p2, p3}, 4), 4, PolygonSearchParams(), poly));
+  // A 15 px square: sides below the 20 px minimum.
+  EXPECT_FALSE(findPolygon(sidesOf({{50, 50}, {65, 50}, {65, 65}, {50, 65}}, 2), 4, [] {
+    PolygonSearchParams p;
+    return p;
+  }(), poly));
+  // Segments whose ends are too far apart (gap > a third of the side).
+  EXPECT_FALSE(findPolygon(sidesOf({{20, 20}, {80, 20}, {80, 80}, {20, 80}}, 22), 4, PolygonSearchParams(), poly));
+  // ... and the same square with small gaps is found.
+  EXPECT_TRUE(findPolygon(sidesOf({{20, 20}, {80, 20}, {80, 80}, {20, 80}}, 6), 4, PolygonSearchParams(), poly));
+}
+
+TEST(PolygonSearch, FindsTrianglesAndPentagonsOfGeneralMaps)
+{
+  PolygonSearchParams p;
+  p.min_turn_angle_deg = 30;
+  p.max_turn_angle_deg = 150;
+  std::vector<Eigen::Vector2d> tri = {{20, 100}, {100, 100}, {60, 30}};
+  ImagePolygon poly;
+  ASSERT_TRUE(findPolygon(sidesOf(tri, 5), 3, p, poly));
+  EXPECT_EQ(poly.corners.size(), 3u);
+  std::vector<Eigen::Vector2d> penta;
+  for (int k = 0; k < 5; ++k)
+    penta.emplace_back(64 + 45 * std::cos(2 * M_PI * k / 5), 64 + 45 * std::sin(2 * M_PI * k / 5));
+  ASSERT_TRUE(findPolygon(sidesOf(penta, 5), 5, p, poly));
+  EXPECT_EQ(poly.corners.size(), 5u);
+  for (const auto& c : poly.corners)
+  {
+    double best = 1e9;
+    for (const auto& e : penta)
+      best = std::min(best, (c - e).norm());
+    EXPECT_LT(best, 1e-6);
+  }
+}
+
+TEST(PoseInit, ExactPoseFromNoiseFreeCornersInAnyOrderAndRoll)
+{
+  const LineMap map = defaultSquareMap();
+  for (double roll_deg : {-40.0, -10.0, 0.0, 25.0, 44.0})
+  {
+    const CameraPose truth = lookAt({0.3, -0.2, 1.7}, {0.05, 0.02, 0}, {0, 1, 0}, roll_deg * M_PI / 180);
+    auto corners = projectCorners(map, truth);
+    // The image order starts anywhere and runs either way.
+    std::rotate(corners.begin(), corners.begin() + 2, corners.end());
+    for (int reversed = 0; reversed < 2; ++reversed)
+    {
+      if (reversed)
+        std::reverse(corners.begin(), corners.end());
+      InitialPose init;
+      ASSERT_TRUE(estimateInitialPose(corners, map, kK, PoseInitParams(), init)) << roll_deg;
+      EXPECT_LT(positionError(init.pose, truth), 1e-6) << roll_deg;
+      EXPECT_LT(orientationError(init.pose, truth), 1e-6) << roll_deg;
+      EXPECT_LT(init.reprojection_rms_px, 1e-6);
+      EXPECT_GT(init.up_score, std::cos(46 * M_PI / 180));
+    }
+  }
+}
+
+TEST(PoseInit, UpHintResolvesTheSquareSymmetry)
+{
+  // Rolled by 80 deg: the corners are the same as for -10 deg with another assignment; with
+  // up = +y the tracker picks the roll within +-45 deg.
+  const LineMap map = defaultSquareMap();
+  const CameraPose rolled = lookAt({0, 0, 1.5}, {0, 0, 0}, {0, 1, 0}, 80 * M_PI / 180);
+  const CameraPose expected = lookAt({0, 0, 1.5}, {0, 0, 0}, {0, 1, 0}, -10 * M_PI / 180);
+  InitialPose init;
+  ASSERT_TRUE(estimateInitialPose(projectCorners(map, rolled), map, kK, PoseInitParams(), init));
+  EXPECT_LT(orientationError(init.pose, expected), 1e-6);
+  EXPECT_LT(positionError(init.pose, expected), 1e-6);
+  // With up = +x the other assignment wins.
+  LineMap map_x = map;
+  map_x.up_world = Eigen::Vector3d(1, 0, 0);  // image up of the rolled camera
+  ASSERT_TRUE(estimateInitialPose(projectCorners(map, rolled), map_x, kK, PoseInitParams(), init));
+  EXPECT_LT(orientationError(init.pose, rolled), 1e-6);
+}
+
+TEST(PoseInit, NoisyCornersGiveACloseRefinedPose)
+{
+  const LineMap map = defaultSquareMap();
+  const CameraPose truth = lookAt({0.2, 0.1, 1.2}, {0, 0, 0}, {0, 1, 0}, 0.2);
+  auto corners = projectCorners(map, truth);
+  const Eigen::Vector2d noise[4] = {{0.3, -0.2}, {-0.25, 0.3}, {0.2, 0.2}, {-0.3, -0.3}};
+  for (int i = 0; i < 4; ++i)
+    corners[i] += noise[i];
+  InitialPose init;
+  ASSERT_TRUE(estimateInitialPose(corners, map, kK, PoseInitParams(), init));
+  EXPECT_LT(init.reprojection_rms_px, 0.4);
+  EXPECT_LT(positionError(init.pose, truth), 0.05);
+  EXPECT_LT(orientationError(init.pose, truth), 3 * M_PI / 180);
+}
+
+TEST(PoseInit, CornersThatFitNoPoseAreRejected)
+{
+  const LineMap map = defaultSquareMap();
+  // A strongly non-projective quadrilateral (a "kite" with one corner pulled far out).
+  std::vector<Eigen::Vector2d> corners = {{30, 30}, {90, 30}, {120, 120}, {30, 90}};
+  PoseInitParams p;
+  p.max_reprojection_rms_px = 0.5;
+  InitialPose init;
+  EXPECT_FALSE(estimateInitialPose(corners, map, kK, p, init));
+  // Wrong number of corners for the map's polygons.
+  EXPECT_FALSE(estimateInitialPose({{30, 30}, {90, 30}, {60, 90}}, map, kK, PoseInitParams(), init));
+}

@@ -1,0 +1,151 @@
+// rostest: the tracker (node or nodelet) on a bag written here from the software DVS. Checks
+// per-event poses against ground truth, the batched poses, TF world -> dvs, the state topic and
+// the diagnostics.
+#include <diagnostic_msgs/DiagnosticArray.h>
+#include <dvs_driver/event_bag_io.h>
+#include <dvs_line_tracker/camera_pose.h>
+#include <dvs_screen_sim/dataset.h>
+#include <dvs_screen_sim/sim_config.h>
+#include <geometry_msgs/PoseArray.h>
+#include <geometry_msgs/PoseStamped.h>
+#include <ros/ros.h>
+#include <rosbag/bag.h>
+#include <rosbag/view.h>
+#include <sensor_msgs/CameraInfo.h>
+#include <std_msgs/String.h>
+#include <tf2_ros/transform_listener.h>
+
+#include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
+
+#include <cstdio>
+#include <mutex>
+
+using namespace dvs_line_tracker;
+
+namespace
+{
+struct Received
+{
+  std::mutex m;
+  std::vector<geometry_msgs::PoseStamped> poses;
+  size_t batched_poses = 0, batched_msgs = 0;
+  std::vector<std::string> states;
+  std::vector<diagnostic_msgs::DiagnosticStatus> diagnostics;
+};
+}  // namespace
+
+TEST(TrackerRos, TracksASimulatedBag)
+{
+  ros::NodeHandle nh;
+  // 1. Simulate a flip (time stamps from 1000 s) and write it to a bag.
+  const auto config = dvs_screen_sim::resolveSimConfig(
+      "flip", YAML::Load("time_offset: 1000.0\ntrajectory: {flip: {distance: 2.0}}"), std::nullopt, 1.0);
+  const auto sim = dvs_screen_sim::runSimulation(config);
+  const std::string bag_path = "/tmp/dvs_line_tracker_rostest_" + std::to_string(getpid()) + ".bag";
+  dvs_driver::EventStream stream;
+  stream.events = sim.events;
+  stream.width = 128;
+  stream.height = 128;
+  ASSERT_GT(dvs_driver::writeEventsBag(bag_path, "/dvs/events", stream), 500u);
+
+  // 2. Listen to everything the tracker publishes.
+  Received rx;
+  auto pose_sub = nh.subscribe<geometry_msgs::PoseStamped>("/dvs_line_tracker/pose", 100000, [&](const auto& m) {
+    std::lock_guard<std::mutex> l(rx.m);
+    rx.poses.push_back(*m);
+  });
+  auto poses_sub = nh.subscribe<geometry_msgs::PoseArray>("/dvs_line_tracker/poses", 10000, [&](const auto& m) {
+    std::lock_guard<std::mutex> l(rx.m);
+    rx.batched_poses += m->poses.size();
+    ++rx.batched_msgs;
+  });
+  auto state_sub = nh.subscribe<std_msgs::String>("/dvs_line_tracker/state", 100, [&](const auto& m) {
+    std::lock_guard<std::mutex> l(rx.m);
+    rx.states.push_back(m->data);
+  });
+  auto diag_sub = nh.subscribe<diagnostic_msgs::DiagnosticArray>("/diagnostics", 100, [&](const auto& m) {
+    std::lock_guard<std::mutex> l(rx.m);
+    for (const auto& s : m->status)
+      if (s.name.find("tracker") != std::string::npos)
+        rx.diagnostics.push_back(s);
+  });
+  tf2_ros::Buffer tf_buffer;
+  tf2_ros::TransformListener tf_listener(tf_buffer);
+  ros::AsyncSpinner spinner(2);
+  spinner.start();
+
+  // 3. Camera info (latched), then the bag's packets.
+  ros::Publisher info_pub = nh.advertise<sensor_msgs::CameraInfo>("/dvs/camera_info", 1, true);
+  ros::Publisher events_pub = nh.advertise<dvs_msgs::EventArray>("/dvs/events", 2000);
+  sensor_msgs::CameraInfo info;
+  const auto& k = config.camera.intrinsics();
+  info.width = k.width;
+  info.height = k.height;
+  info.distortion_model = "plumb_bob";
+  info.D = {k.k1, k.k2, k.p1, k.p2, k.k3};
+  info.K = {k.fx, 0, k.cx, 0, k.fy, k.cy, 0, 0, 1};
+  info.header.frame_id = "dvs";
+  info_pub.publish(info);
+  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(30.0);
+  while ((events_pub.getNumSubscribers() == 0 || pose_sub.getNumPublishers() == 0 ||
+          poses_sub.getNumPublishers() == 0) &&
+         ros::WallTime::now() < deadline)
+    ros::WallDuration(0.05).sleep();
+  ASSERT_GT(events_pub.getNumSubscribers(), 0u);
+  ros::WallDuration(1.0).sleep();  // camera_info delivered
+
+  rosbag::Bag bag(bag_path, rosbag::bagmode::Read);
+  size_t packets = 0;
+  for (const auto& m : rosbag::View(bag, rosbag::TopicQuery("/dvs/events")))
+  {
+    events_pub.publish(m.instantiate<dvs_msgs::EventArray>());
+    if (++packets % 5 == 0)
+      ros::WallDuration(0.002).sleep();
+  }
+  bag.close();
+  std::remove(bag_path.c_str());
+  ros::WallDuration(3.0).sleep();
+
+  // 4. Checks.
+  std::lock_guard<std::mutex> l(rx.m);
+  // One pose per attributed event in the batches; the per-event topic may drop some under load
+  // (that is what the batched topic is for).
+  ASSERT_GT(rx.poses.size(), 10000u);
+  EXPECT_GE(rx.batched_poses, rx.poses.size());
+  EXPECT_GT(rx.batched_msgs, 100u);
+  for (size_t i = 1; i < rx.poses.size(); ++i)
+    ASSERT_GE(rx.poses[i].header.stamp, rx.poses[i - 1].header.stamp);
+  EXPECT_EQ(rx.poses.front().header.frame_id, "world");
+  // Per-event poses against ground truth (1 kHz, nearest sample).
+  double worst = 0;
+  for (size_t i = 0; i < rx.poses.size(); i += 97)
+  {
+    const double t = rx.poses[i].header.stamp.toSec();
+    const auto it = std::lower_bound(sim.groundtruth.begin(), sim.groundtruth.end(), t,
+                                     [](const auto& g, double tt) { return g.t < tt; });
+    ASSERT_NE(it, sim.groundtruth.end());
+    const auto& p = rx.poses[i].pose.position;
+    worst = std::max(worst, (Eigen::Vector3d(p.x, p.y, p.z) - it->T_world_cam.p).norm());
+  }
+  EXPECT_LT(worst, 0.25) << "of " << rx.poses.size() << " poses, first at " << rx.poses.front().header.stamp;
+  // TF world -> dvs at the last pose.
+  ASSERT_TRUE(tf_buffer.canTransform("world", "dvs", rx.poses.back().header.stamp, ros::Duration(1.0)));
+  const auto tf = tf_buffer.lookupTransform("world", "dvs", rx.poses.back().header.stamp);
+  EXPECT_NEAR(tf.transform.translation.x, rx.poses.back().pose.position.x, 0.05);
+  EXPECT_NEAR(tf.transform.translation.z, rx.poses.back().pose.position.z, 0.05);
+  // State: INITIALIZING, then TRACKING.
+  ASSERT_FALSE(rx.states.empty());
+  EXPECT_EQ(rx.states.back(), "TRACKING");
+  // Diagnostics report the state.
+  ASSERT_FALSE(rx.diagnostics.empty());
+  EXPECT_EQ(rx.diagnostics.back().message, "TRACKING");
+  EXPECT_EQ(rx.diagnostics.back().level, diagnostic_msgs::DiagnosticStatus::OK);
+}
+
+int main(int argc, char** argv)
+{
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "test_tracker_ros");
+  return RUN_ALL_TESTS();
+}

@@ -1,0 +1,205 @@
+// End to end on the suite's software DVS (dvs_screen_sim): accuracy on the flip and the circle,
+// and robustness (background noise, a 2000 deg/s flip). Accuracy bounds are the figures this
+// implementation reaches with margin; BENCHMARKS.md sets them beside the targets.
+#include "tracking_test_support.h"
+
+#include <dvs_line_tracker/synthetic_events.h>
+#include <dvs_screen_sim/dataset.h>
+#include <dvs_screen_sim/sim_config.h>
+
+#include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
+
+using namespace dvs_line_tracker;
+
+namespace
+{
+struct Simulated
+{
+  dvs_screen_sim::SimConfig config;
+  dvs_screen_sim::SimulationOutput output;
+  std::vector<StampedPose> ground_truth;
+};
+
+Simulated simulate(const std::string& scenario, const std::string& overrides_yaml)
+{
+  Simulated s;
+  s.config = dvs_screen_sim::resolveSimConfig(scenario, YAML::Load(overrides_yaml));
+  s.output = dvs_screen_sim::runSimulation(s.config);
+  for (const auto& g : s.output.groundtruth)
+    s.ground_truth.push_back({g.t, CameraPose::fromWorldCam(g.T_world_cam.R_world_cam(), g.T_world_cam.p)});
+  return s;
+}
+
+double firstEventTime(const dvs_driver::EventVector& events) { return events.front().t_ns * 1e-9; }
+
+constexpr double kDeg = M_PI / 180.0;
+}  // namespace
+
+TEST(EndToEnd, Flip1200DegPerSecondAt2m)
+{
+  const Simulated sim = simulate("flip", "trajectory: {flip: {distance: 2.0, peak_rate_deg_s: 1200}}");
+  LineTracker tracker(sim.config.camera, defaultSquareMap());
+  const TrackingRun run = runTracker(tracker, sim.output.events);
+  ASSERT_FALSE(run.estimates.empty());
+  // First pose within 0.25 s of the first events.
+  EXPECT_LT(run.estimates.front().t_s - firstEventTime(sim.output.events), 0.25);
+  const AccuracyReport r = evaluateTrajectory(run.estimates, sim.ground_truth, 0.05);
+  EXPECT_EQ(r.samples_tracked, r.samples);  // 100 % tracked
+  EXPECT_EQ(run.stats.losses, 0u);
+  EXPECT_LT(r.rms_position_m, 0.05);
+  EXPECT_LT(r.rms_orientation_rad, 1.5 * kDeg);  // the target
+  EXPECT_LT(r.max_position_m, 0.20);
+  EXPECT_LT(r.max_orientation_rad, 6 * kDeg);
+  EXPECT_EQ(run.final_state, TrackerState::kTracking);
+  std::printf("flip 2 m: first pose %.3f s, RMS %.2f cm %.2f deg, max %.2f cm %.2f deg\n", r.first_estimate_s,
+              100 * r.rms_position_m, r.rms_orientation_rad / kDeg, 100 * r.max_position_m,
+              r.max_orientation_rad / kDeg);
+}
+
+TEST(EndToEnd, CircleAt2_5m)
+{
+  const Simulated sim = simulate("circle", "trajectory: {circle: {distance: 2.5}}\nduration: 2.0");
+  LineTracker tracker(sim.config.camera, defaultSquareMap());
+  const TrackingRun run = runTracker(tracker, sim.output.events);
+  ASSERT_FALSE(run.estimates.empty());
+  const AccuracyReport r = evaluateTrajectory(run.estimates, sim.ground_truth, 0.05);
+  EXPECT_EQ(r.samples_tracked, r.samples);
+  EXPECT_LT(r.rms_position_m, 0.05);
+  EXPECT_LT(r.rms_orientation_rad, 2.0 * kDeg);  // the target
+  std::printf("circle 2.5 m: RMS %.2f cm %.2f deg, max %.2f cm %.2f deg\n", 100 * r.rms_position_m,
+              r.rms_orientation_rad / kDeg, 100 * r.max_position_m, r.max_orientation_rad / kDeg);
+}
+
+TEST(EndToEnd, FullSolverTracksLikeTheIncrementalOne)
+{
+  const Simulated sim = simulate("flip", "trajectory: {flip: {distance: 2.0}}\nduration: 0.6");
+  LineTrackerParams params;
+  params.estimator.solver = SolverType::kFullGaussNewton;
+  LineTracker tracker(sim.config.camera, defaultSquareMap(), params);
+  const TrackingRun run = runTracker(tracker, sim.output.events);
+  ASSERT_FALSE(run.estimates.empty());
+  const AccuracyReport r = evaluateTrajectory(run.estimates, sim.ground_truth, 0.05);
+  EXPECT_EQ(r.samples_tracked, r.samples);
+  EXPECT_LT(r.rms_position_m, 0.06);
+  EXPECT_LT(r.rms_orientation_rad, 2.0 * kDeg);
+}
+
+TEST(Robustness, BackgroundNoise2HzPerPixel)
+{
+  const Simulated sim = simulate("flip", "events: {noise: {background_rate: 2.0}}");
+  ASSERT_GT(sim.output.stats.noise_events, 40000u);  // 2 Hz x 16384 px x 1.5 s
+  LineTracker tracker(sim.config.camera, defaultSquareMap());
+  const TrackingRun run = runTracker(tracker, sim.output.events);
+  ASSERT_FALSE(run.estimates.empty());
+  EXPECT_LT(run.estimates.front().t_s - firstEventTime(sim.output.events), 0.25);
+  const AccuracyReport r = evaluateTrajectory(run.estimates, sim.ground_truth, 0.05);
+  EXPECT_EQ(r.samples_tracked, r.samples);
+  EXPECT_LT(r.rms_position_m, 0.12);
+  EXPECT_LT(r.rms_orientation_rad, 3.0 * kDeg);
+  // The initial pose is right (a polygon assembled from noise would be far off).
+  EXPECT_LT(positionError(run.estimates.front().pose, sim.ground_truth[static_cast<size_t>(r.first_estimate_s * 1000)].pose), 0.15);
+  EXPECT_EQ(run.final_state, TrackerState::kTracking);
+}
+
+TEST(Robustness, Flip2000DegPerSecond)
+{
+  const Simulated sim = simulate("flip", "trajectory: {flip: {peak_rate_deg_s: 2000}}");
+  LineTracker tracker(sim.config.camera, defaultSquareMap());
+  const TrackingRun run = runTracker(tracker, sim.output.events);
+  ASSERT_FALSE(run.estimates.empty());
+  const AccuracyReport r = evaluateTrajectory(run.estimates, sim.ground_truth, 0.05);
+  EXPECT_EQ(r.samples_tracked, r.samples);
+  EXPECT_LT(r.rms_position_m, 0.06);
+  EXPECT_LT(r.max_position_m, 0.20);
+  EXPECT_EQ(run.final_state, TrackerState::kTracking);
+}
+
+namespace
+{
+SyntheticEventParams idealDvs128()
+{
+  SyntheticEventParams p;
+  p.k = PinholeK{115, 115, 63.5, 63.5};
+  return p;
+}
+
+dvs_calibration::CameraModel idealCamera()
+{
+  dvs_calibration::CameraIntrinsics in;
+  in.width = in.height = 128;
+  in.fx = in.fy = 115;
+  in.cx = in.cy = 63.5;
+  return dvs_calibration::CameraModel(in);
+}
+}  // namespace
+
+TEST(Robustness, OneEdgeOccludedFor100ms)
+{
+  // A slow roll with sideways drift; the left edge produces no events for 100 ms.
+  const Trajectory traj = [](double t) {
+    return lookAt({-0.1 + 0.2 * t, 0.05 * std::sin(3 * t), 1.6}, {-0.1 + 0.2 * t, 0.05 * std::sin(3 * t), 0}, {0, 1, 0},
+                  0.6 * std::sin(2.5 * t));
+  };
+  SyntheticEventParams p = idealDvs128();
+  p.duration_s = 1.0;
+  p.occluded_segment = 3;  // the map's left edge (x = -0.45)
+  p.occlusion_start_s = 0.4;
+  p.occlusion_end_s = 0.5;
+  const SyntheticSequence seq = generateSyntheticEvents(defaultSquareMap(), traj, p);
+  LineTracker tracker(idealCamera(), defaultSquareMap());
+  const TrackingRun run = runTracker(tracker, seq.events);
+  ASSERT_FALSE(run.estimates.empty());
+  std::vector<StampedPose> gt;
+  for (const auto& g : seq.ground_truth)
+    gt.push_back({g.t_s, g.pose});
+  // During and after the occlusion the pose stays right: three edges carry the pose.
+  // During the occlusion three edges carry the pose: it degrades (weakly observable lateral
+  // translation) but the track holds; afterwards it is accurate again.
+  const AccuracyReport during = evaluateTrajectory(run.estimates, gt, 0.05, 0.4, 0.5);
+  EXPECT_EQ(during.samples_tracked, during.samples);
+  EXPECT_LT(during.max_position_m, 0.20);
+  EXPECT_EQ(run.stats.losses, 0u);
+  const AccuracyReport after = evaluateTrajectory(run.estimates, gt, 0.05, 0.65, 1.0);
+  EXPECT_LT(after.max_position_m, 0.03);
+  EXPECT_EQ(run.final_state, TrackerState::kTracking);
+}
+
+TEST(Robustness, SquareLeavesTheViewAndComesBack)
+{
+  // Hovering on a small circle (0-0.5 s), the camera slides right until the square has left the
+  // image entirely (1 s), comes back (1.5 s) and hovers again.
+  const Trajectory traj = [](double t) {
+    const double slide = (t > 0.5 && t < 1.5) ? 1.6 * std::sin(M_PI * (t - 0.5)) : 0.0;
+    const double x = slide + 0.08 * std::cos(8 * t), y = 0.08 * std::sin(8 * t);
+    return lookAt({x, y, 1.6}, {x, y, 0}, {0, 1, 0}, 0.15 * std::sin(5 * t));
+  };
+  SyntheticEventParams p = idealDvs128();
+  p.duration_s = 2.0;
+  const SyntheticSequence seq = generateSyntheticEvents(defaultSquareMap(), traj, p);
+  LineTracker tracker(idealCamera(), defaultSquareMap());
+  const TrackingRun run = runTracker(tracker, seq.events);
+  std::vector<StampedPose> gt;
+  for (const auto& g : seq.ground_truth)
+    gt.push_back({g.t_s, g.pose});
+  // Lost while out of view, with the reason; then found again.
+  ASSERT_GE(run.stats.losses, 1u);
+  EXPECT_NE(run.loss_reasons.front().find("left the view"), std::string::npos) << run.loss_reasons.front();
+  EXPECT_GE(run.stats.reinitializations, 1u);
+  EXPECT_EQ(run.final_state, TrackerState::kTracking);
+  // Lost only after the square started to leave (0.5 s), and only while it was out.
+  const double lost_at = std::find_if(run.transitions.begin(), run.transitions.end(), [](const auto& tr) {
+                           return tr.second == TrackerState::kLost;
+                         })->first;
+  EXPECT_GT(lost_at, 0.55);
+  EXPECT_LT(lost_at, 1.0);
+  const AccuracyReport before = evaluateTrajectory(run.estimates, gt, 0.05, 0.0, 0.5);
+  EXPECT_EQ(before.samples_tracked, before.samples);
+  EXPECT_LT(before.max_position_m, 0.06);
+  // (While the square re-enters, partial views can give false re-initialisations; the quality
+  // monitor rejects them by attribution collapse: see README, known limitations.)
+  // After the re-initialisation the pose is right again.
+  const AccuracyReport after = evaluateTrajectory(run.estimates, gt, 0.05, 1.9, 2.0);
+  EXPECT_GT(after.samples_tracked, 0);
+  EXPECT_LT(after.max_position_m, 0.10);
+}

@@ -1,0 +1,169 @@
+#!/usr/bin/env python3
+"""rostest checker for a running launch file: events flow in, and the tracker's per-event
+poses, TF (world -> dvs) and markers come out; the poses agree with ground truth.
+
+Parameters:
+  ~events_topic        /dvs/events
+  ~pose_topic          /dvs_line_tracker/pose          (geometry_msgs/PoseStamped, per event)
+  ~markers_topic       /dvs_line_tracker/markers       (visualization_msgs/MarkerArray)
+  ~world_frame, ~camera_frame   world, dvs
+  ~groundtruth_file    TUM file (time base = the pose stamps), or
+  ~groundtruth_topic   geometry_msgs/PoseStamped topic (default /dvs/ground_truth/pose)
+  ~min_poses           per-event poses to receive (default 200)
+  ~max_position_error  m, median over the compared poses (default 0.05)
+  ~max_angle_error     deg, median (default 5)
+  ~timeout             s to wait for everything (default 60)
+"""
+import bisect
+import math
+import struct
+import sys
+import threading
+import time
+import unittest
+
+import rospy
+import rostest
+import tf2_ros
+from geometry_msgs.msg import PoseStamped
+from visualization_msgs.msg import MarkerArray
+
+PKG = "dvs_launch"
+
+
+def quat_mul_conj_angle(q1, q2):
+    """Angle (deg) of the rotation between unit quaternions q1, q2 (x, y, z, w)."""
+    d = abs(sum(a * b for a, b in zip(q1, q2)))
+    n1 = math.sqrt(sum(a * a for a in q1))
+    n2 = math.sqrt(sum(a * a for a in q2))
+    return math.degrees(2.0 * math.acos(min(1.0, d / (n1 * n2))))
+
+
+def load_tum(path):
+    rows = []
+    with open(path) as f:
+        for line in f:
+            s = line.strip()
+            if s and not s.startswith("#"):
+                rows.append([float(v) for v in s.split()])
+    return rows
+
+
+class GroundTruth:
+    """Poses by time; nearest sample lookup (ground truth comes at 1 kHz)."""
+
+    def __init__(self):
+        self.t, self.rows = [], []
+        self.lock = threading.Lock()
+
+    def add(self, row):
+        with self.lock:
+            if self.t and row[0] <= self.t[-1]:
+                return
+            self.t.append(row[0])
+            self.rows.append(row)
+
+    def at(self, t, tolerance=0.002):
+        with self.lock:
+            i = bisect.bisect_left(self.t, t)
+            best = None
+            for j in (i - 1, i):
+                if 0 <= j < len(self.t) and abs(self.t[j] - t) <= tolerance:
+                    if best is None or abs(self.t[j] - t) < abs(best[0] - t):
+                        best = self.rows[j]
+            return best
+
+
+def row_of(msg):
+    p, q = msg.pose.position, msg.pose.orientation
+    return [msg.header.stamp.to_sec(), p.x, p.y, p.z, q.x, q.y, q.z, q.w]
+
+
+class PipelineTest(unittest.TestCase):
+    def setUp(self):
+        self.timeout = float(rospy.get_param("~timeout", 60.0))
+        self.min_poses = int(rospy.get_param("~min_poses", 200))
+        self.world = rospy.get_param("~world_frame", "world")
+        self.camera = rospy.get_param("~camera_frame", "dvs")
+        self.events = 0
+        self.poses = []
+        self.pose_stamps_monotonic = True
+        self.markers = []
+        self.gt = GroundTruth()
+        gt_file = rospy.get_param("~groundtruth_file", "")
+        if gt_file:
+            for row in load_tum(gt_file):
+                self.gt.add(row)
+        else:
+            rospy.Subscriber(rospy.get_param("~groundtruth_topic", "/dvs/ground_truth/pose"), PoseStamped,
+                             lambda m: self.gt.add(row_of(m)), queue_size=5000)
+        self.tf_buffer = tf2_ros.Buffer(cache_time=rospy.Duration(30.0))
+        self.tf_listener = tf2_ros.TransformListener(self.tf_buffer)
+        rospy.Subscriber(rospy.get_param("~events_topic", "/dvs/events"), rospy.AnyMsg, self.on_events,
+                         queue_size=1000)
+        rospy.Subscriber(rospy.get_param("~pose_topic", "/dvs_line_tracker/pose"), PoseStamped, self.on_pose,
+                         queue_size=2000)
+        rospy.Subscriber(rospy.get_param("~markers_topic", "/dvs_line_tracker/markers"), MarkerArray,
+                         self.on_markers, queue_size=10)
+
+    def on_events(self, raw):
+        buf = raw._buff
+        (frame_len,) = struct.unpack_from("<I", buf, 12)
+        (n,) = struct.unpack_from("<I", buf, 16 + frame_len + 8)
+        self.events += n
+
+    def on_pose(self, msg):
+        row = row_of(msg)
+        if self.poses and row[0] < self.poses[-1][0]:
+            self.pose_stamps_monotonic = False
+        self.poses.append(row)
+
+    def on_markers(self, msg):
+        if msg.markers:
+            self.markers.append(msg)
+
+    def wait_for(self, what, condition):
+        deadline = time.monotonic() + self.timeout
+        while not rospy.is_shutdown() and time.monotonic() < deadline:
+            if condition():
+                return
+            time.sleep(0.05)
+        self.fail("timed out after %.0f s waiting for %s (events %d, poses %d, marker arrays %d)" % (
+            self.timeout, what, self.events, len(self.poses), len(self.markers)))
+
+    def test_pipeline(self):
+        self.wait_for("events on the event topic", lambda: self.events > 0)
+        self.wait_for("%d per-event poses" % self.min_poses, lambda: len(self.poses) >= self.min_poses)
+        self.wait_for("markers", lambda: len(self.markers) > 0)
+        self.wait_for("TF %s -> %s" % (self.world, self.camera),
+                      lambda: self.tf_buffer.can_transform(self.world, self.camera, rospy.Time(0)))
+        self.assertTrue(self.pose_stamps_monotonic, "per-event pose stamps went backwards")
+
+        # Accuracy: every received pose that has a ground-truth sample within 2 ms.
+        self.wait_for("ground truth around the poses", lambda: self.gt.at(self.poses[-1][0]) is not None)
+        pos_err, ang_err = [], []
+        for row in list(self.poses):
+            g = self.gt.at(row[0])
+            if g is None:
+                continue
+            pos_err.append(math.sqrt(sum((a - b) ** 2 for a, b in zip(row[1:4], g[1:4]))))
+            ang_err.append(quat_mul_conj_angle(row[4:8], g[4:8]))
+        self.assertGreaterEqual(len(pos_err), self.min_poses // 2,
+                                "only %d of %d poses have ground truth within 2 ms" % (len(pos_err), len(self.poses)))
+        pos_err.sort()
+        ang_err.sort()
+        med_pos, med_ang = pos_err[len(pos_err) // 2], ang_err[len(ang_err) // 2]
+        rospy.loginfo("check_pipeline: %d events, %d poses, median error %.2f cm / %.2f deg",
+                      self.events, len(self.poses), 100 * med_pos, med_ang)
+        self.assertLess(med_pos, float(rospy.get_param("~max_position_error", 0.05)),
+                        "median position error %.3f m" % med_pos)
+        self.assertLess(med_ang, float(rospy.get_param("~max_angle_error", 5.0)),
+                        "median orientation error %.2f deg" % med_ang)
+        # The TF agrees with the poses' frame convention: world -> dvs is the camera pose.
+        tf = self.tf_buffer.lookup_transform(self.world, self.camera, rospy.Time(0))
+        self.assertEqual(tf.header.frame_id.lstrip("/"), self.world)
+
+
+if __name__ == "__main__":
+    rospy.init_node("check_pipeline")
+    rostest.rosrun(PKG, "check_pipeline", PipelineTest, sys.argv)
