@@ -198,6 +198,13 @@ int main(int argc, char** argv)
   LineTrackerParams thesis;  // the thesis's buffer size and an undamped solver
   thesis.buffer_size = 8;
   thesis.estimator.damping = 1e-4;
+  thesis.edge_offset_px = 0;
+  LineTrackerParams no_offset;  // the default without the dark-side edge offset correction
+  no_offset.edge_offset_px = 0;
+  LineTrackerParams previous;   // the defaults before 2026-11-21 08:10 (buffer 16, damping 0.1, no offset)
+  previous.buffer_size = 16;
+  previous.estimator.damping = 0.1;
+  previous.edge_offset_px = 0;
   for (const auto& s : seqs)
   {
     report(s, "incremental (default)", incremental, runs);
@@ -205,6 +212,8 @@ int main(int argc, char** argv)
     {
       report(s, "full Gauss-Newton x3", full, 1);
       report(s, "incremental, buffer 8, damping 1e-4", thesis, 1);
+      report(s, "default, edge_offset_px 0", no_offset, 1);
+      report(s, "buffer 16, damping 0.1, edge_offset_px 0 (previous default)", previous, 1);
     }
   }
   std::printf("\n## Frame-based baseline (accumulate a frame, detect the square from scratch, PnP)\n\n");

@@ -68,6 +68,8 @@ std::string validateParams(const LineTrackerParams& p)
   positive(p.estimator.huber_px, "huber_px");
   if (p.estimator.full_iterations < 1)
     err << "full_iterations must be >= 1; ";
+  if (!(p.edge_offset_px >= 0 && p.edge_offset_px < p.attribution.max_orthogonal_px))
+    err << "edge_offset_px must be in [0, max_orthogonal_distance_px) (got " << p.edge_offset_px << "); ";
   if (p.estimator.extra_relinearizations < 0)
     err << "extra_relinearizations must be >= 0; ";
   return err.str();
@@ -94,6 +96,12 @@ LineTracker::LineTracker(const dvs_calibration::CameraModel& camera, const LineM
   projected_.resize(n);
   buffers_.assign(n, SegmentBuffer(params.buffer_size));
   equations_.resize(n);
+  dark_side_score_.assign(map.polygons.size() + n, 0.0);
+  segment_polygon_.assign(n, -1);
+  for (size_t j = map.polygons.size(); j-- > 0;)
+    for (int id : map.polygons[j].segment_ids)
+      segment_polygon_[id] = static_cast<int>(j);
+  last_projection_.resize(n);
 }
 
 void LineTracker::reset()
@@ -105,6 +113,7 @@ void LineTracker::reset()
   voted_since_check_ = 0;
   for (auto& b : buffers_)
     b.clear();
+  std::fill(dark_side_score_.begin(), dark_side_score_.end(), 0.0);
 }
 
 bool LineTracker::processEvent(const dvs_driver::Event& e)
@@ -129,8 +138,8 @@ bool LineTracker::processEvent(const dvs_driver::Event& e)
     ++stats_.events_attributed;
     ++check_attributed_;
     for (int i = 0; i < n; ++i)
-      buffers_[segs[i]].insert(p, projected_[segs[i]], params_.attribution.max_orthogonal_px,
-                               params_.attribution.max_parallel_px);
+      buffers_[segs[i]].insert(edgeCorrected(p, e.polarity, segs[i]), projected_[segs[i]],
+                               params_.attribution.max_orthogonal_px, params_.attribution.max_parallel_px);
     updatePose(segs, n);
     updated = true;
   }
@@ -368,6 +377,7 @@ void LineTracker::startTracking(const CameraPose& pose)
   pose_ = pose;
   x_accumulated_.setZero();
   projectSegments(true);
+  last_projection_ = projected_;
   int visible = 0;
   for (size_t i = 0; i < projected_.size(); ++i)
   {
@@ -409,6 +419,40 @@ void LineTracker::projectSegments(bool update_visibility)
     if (update_visibility)
       s.visible = clippedLength(s.a, s.b, -0.5, -0.5, w - 0.5, h - 0.5) >= params_.min_visible_length_px;
   }
+}
+
+Eigen::Vector2d LineTracker::edgeCorrected(const Eigen::Vector2d& p, bool polarity, int i)
+{
+  // ON events: the bright side gains pixels, i.e. the edge moves towards its dark side; OFF: the
+  // other way. Pose jitter is uncorrelated with polarity and averages out of the evidence.
+  const ProjectedSegment& s = projected_[i];
+  ProjectedSegment& last = last_projection_[i];
+  // Displacement of the line along +normal at the event: its signed distance then minus now.
+  const double moved = last.normal.dot(p - last.a) - s.normal.dot(p - s.a);
+  last.a = s.a;
+  last.normal = s.normal;
+  const int poly = segment_polygon_[i];
+  double inside_along_normal = 1.0;  // +1: the polygon's inside is along +normal (segments in no polygon: +1)
+  int slot = static_cast<int>(map_.polygons.size()) + i;
+  if (poly >= 0)
+  {
+    // Convex polygons: the inside is the side of the projected centroid of the corners.
+    const auto& ids = map_.polygons[poly].segment_ids;
+    Eigen::Vector2d centre = Eigen::Vector2d::Zero();
+    for (int id : ids)
+      centre += projected_[id].a + projected_[id].b;
+    centre /= 2.0 * ids.size();
+    inside_along_normal = s.normal.dot(centre - s.a) >= 0 ? 1.0 : -1.0;
+    slot = poly;
+  }
+  double& score = dark_side_score_[slot];
+  score += (polarity ? 1.0 : -1.0) * moved * inside_along_normal;
+  // Trusted once the edges have moved about a pixel consistently.
+  constexpr double kMinScore = 1.0;
+  if (params_.edge_offset_px <= 0 || std::abs(score) < kMinScore)
+    return p;
+  const double dark_along_normal = score > 0 ? inside_along_normal : -inside_along_normal;
+  return p - dark_along_normal * params_.edge_offset_px * s.normal;
 }
 
 void LineTracker::relinearize(int i)

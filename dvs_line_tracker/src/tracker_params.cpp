@@ -43,6 +43,7 @@ void forEachParam(LineTrackerParams& p, const std::function<void(const ParamRef&
   // Tracking (thesis 4.2.2).
   d("max_orthogonal_distance_px", p.attribution.max_orthogonal_px, "px");
   d("max_parallel_distance_px", p.attribution.max_parallel_px, "px");
+  d("edge_offset_px", p.edge_offset_px, "px");
   i("buffer_size", p.buffer_size, "events");
   i("full_iterations", p.estimator.full_iterations, "");
   i("extra_relinearizations", p.estimator.extra_relinearizations, "");

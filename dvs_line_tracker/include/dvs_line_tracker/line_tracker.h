@@ -35,7 +35,12 @@ struct LineTrackerParams
   PoseInitParams init;
   AttributionParams attribution;
   PoseEstimatorParams estimator;
-  int buffer_size = 16;              ///< events per segment buffer (thesis: 8; 16 measured more accurate, BENCHMARKS.md)
+  /// Events of an edge lie on its dark side: the log-intensity response makes a pixel fire most
+  /// of an edge's events while it is mostly dark (bright edge entering: early; leaving: late).
+  /// Attributed events are moved this far towards the segment's bright side, which is learned
+  /// online from event polarities and the edge's normal motion (BENCHMARKS.md). 0: off.
+  double edge_offset_px = 0.15;
+  int buffer_size = 20;              ///< events per segment buffer (thesis: 8; 20 measured more accurate, BENCHMARKS.md)
   int init_check_interval = 200;     ///< voted events between detection attempts while initialising
   double init_min_check_period_s = 0.005;  ///< and at least this much event time between attempts (bounds the CPU at high rates)
   int init_min_events = 100;         ///< voted events before the first detection attempt
@@ -112,6 +117,8 @@ private:
   void projectSegments(bool update_visibility);
   void relinearize(int segment);
   void updatePose(int changed[2], int num_changed);
+  /// The event position corrected for the dark-side offset of segment `i` (updates its score).
+  Eigen::Vector2d edgeCorrected(const Eigen::Vector2d& p, bool polarity, int i);
   void checkQuality();
   void declareLost(const std::string& reason);
 
@@ -133,6 +140,14 @@ private:
 
   std::vector<ProjectedSegment> projected_;
   std::vector<SegmentBuffer> buffers_;
+  /// Which side of an edge is dark: evidence = sum over attributed events of polarity (+-1) x the
+  /// normal displacement, at the event, of the projected line since the segment's previous event.
+  /// Pooled per polygon (> 0: dark inside; segments of a polygon with a uniform inside share it,
+  /// so edges that have barely moved yet are corrected consistently); per segment for segments
+  /// in no polygon (> 0: dark along +normal).
+  std::vector<double> dark_side_score_;     ///< per polygon, then per segment (index polygons + segment)
+  std::vector<int> segment_polygon_;        ///< first polygon holding the segment, -1 if none
+  std::vector<ProjectedSegment> last_projection_;  ///< the segment's projection at its previous event
   std::vector<SegmentNormalEquations> equations_;
   Vector6d x_accumulated_ = Vector6d::Zero();
   int round_robin_ = 0;

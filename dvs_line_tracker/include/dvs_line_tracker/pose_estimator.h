@@ -29,7 +29,7 @@ struct PoseEstimatorParams
   SolverType solver = SolverType::kIncremental;
   int full_iterations = 3;       ///< Gauss-Newton iterations per event for kFullGaussNewton
   int extra_relinearizations = 1;///< incremental: segments re-linearised round robin per event besides the changed one
-  double damping = 0.1;          ///< Levenberg damping, relative to the mean diagonal of H (steadies weakly observable directions)
+  double damping = 0.07;         ///< Levenberg damping, relative to the mean diagonal of H (steadies weakly observable directions; more lags, BENCHMARKS.md)
   double huber_px = 1.0;         ///< Huber threshold of the point-to-line residuals
 };
 
