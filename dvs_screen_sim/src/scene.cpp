@@ -41,6 +41,27 @@ T get(const YAML::Node& node, const char* key, const T& fallback, const std::str
     throw SceneError(where + "." + key + ": wrong type (" + e.what() + ")");
   }
 }
+
+/// `modulation: {type: constant|square|sine, frequency_hz, phase, low, high, duty}` of a
+/// polygon or an image; keys not given keep their defaults.
+void parseModulation(const YAML::Node& mn, const std::string& where, IntensityModulation& m)
+{
+  const std::string type = get<std::string>(mn, "type", "constant", where + ".modulation");
+  if (type == "constant")
+    m.type = IntensityModulation::Type::Constant;
+  else if (type == "square")
+    m.type = IntensityModulation::Type::Square;
+  else if (type == "sine")
+    m.type = IntensityModulation::Type::Sine;
+  else
+    throw SceneError(where + ".modulation.type must be constant, square or sine (got '" + type + "')");
+  m.frequency_hz = get<double>(mn, "frequency_hz", m.frequency_hz, where + ".modulation");
+  m.phase = get<double>(mn, "phase", m.phase, where + ".modulation");
+  m.low = get<double>(mn, "low", m.low, where + ".modulation");
+  m.high = get<double>(mn, "high", m.high, where + ".modulation");
+  m.duty = get<double>(mn, "duty", m.duty, where + ".modulation");
+}
+
 }  // namespace
 
 double IntensityModulation::valueAt(double t, double constant_reflectance) const
@@ -298,23 +319,7 @@ Scene sceneFromYaml(const YAML::Node& node)
         poly.vertices.emplace_back(v[0], v[1]);
       }
       if (const YAML::Node mn = pn["modulation"])
-      {
-        auto& m = poly.modulation;
-        const std::string type = get<std::string>(mn, "type", "constant", where + ".modulation");
-        if (type == "constant")
-          m.type = IntensityModulation::Type::Constant;
-        else if (type == "square")
-          m.type = IntensityModulation::Type::Square;
-        else if (type == "sine")
-          m.type = IntensityModulation::Type::Sine;
-        else
-          throw SceneError(where + ".modulation.type must be constant, square or sine (got '" + type + "')");
-        m.frequency_hz = get<double>(mn, "frequency_hz", m.frequency_hz, where + ".modulation");
-        m.phase = get<double>(mn, "phase", m.phase, where + ".modulation");
-        m.low = get<double>(mn, "low", m.low, where + ".modulation");
-        m.high = get<double>(mn, "high", m.high, where + ".modulation");
-        m.duty = get<double>(mn, "duty", m.duty, where + ".modulation");
-      }
+        parseModulation(mn, where, poly.modulation);
       scene.polygons.push_back(poly);
     }
   const YAML::Node imgs = node["images"];
@@ -348,23 +353,7 @@ Scene sceneFromYaml(const YAML::Node& node)
       im.size = Eigen::Vector2d(sz[0], sz[1]);
       im.gain_value = get<double>(in, "gain", 1.0, where);
       if (const YAML::Node mn = in["modulation"])
-      {
-        auto& m = im.gain;
-        const std::string type = get<std::string>(mn, "type", "constant", where + ".modulation");
-        if (type == "constant")
-          m.type = IntensityModulation::Type::Constant;
-        else if (type == "square")
-          m.type = IntensityModulation::Type::Square;
-        else if (type == "sine")
-          m.type = IntensityModulation::Type::Sine;
-        else
-          throw SceneError(where + ".modulation.type must be constant, square or sine (got '" + type + "')");
-        m.frequency_hz = get<double>(mn, "frequency_hz", m.frequency_hz, where + ".modulation");
-        m.phase = get<double>(mn, "phase", m.phase, where + ".modulation");
-        m.low = get<double>(mn, "low", m.low, where + ".modulation");
-        m.high = get<double>(mn, "high", m.high, where + ".modulation");
-        m.duty = get<double>(mn, "duty", m.duty, where + ".modulation");
-      }
+        parseModulation(mn, where, im.gain);
       scene.images.push_back(std::move(im));
     }
   scene.finalize();

@@ -3,6 +3,7 @@
 // score out, services to start, add a view, calibrate, save and reset. Used by the node and the
 // nodelet alike. No algorithm here: everything is in the ROS-free core.
 #include <dvs_calibration/calibration_session.h>
+#include <dvs_calibration/camera_info_conversions.h>
 #include <dvs_msgs/EventArray.h>
 #include <ros/ros.h>
 #include <sensor_msgs/CameraInfo.h>
@@ -15,9 +16,6 @@
 
 namespace dvs_calibration
 {
-/// camera_info message of a camera model (plumb_bob, R = I, P = [K | 0]).
-sensor_msgs::CameraInfo toCameraInfoMsg(const CameraModel& camera, const std::string& frame_id);
-
 class CalibrationRos
 {
 public:

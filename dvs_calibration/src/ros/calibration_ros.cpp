@@ -43,21 +43,6 @@ void makeParentDirs(const std::string& path)
 }
 }  // namespace
 
-sensor_msgs::CameraInfo toCameraInfoMsg(const CameraModel& camera, const std::string& frame_id)
-{
-  const CameraIntrinsics& k = camera.intrinsics();
-  sensor_msgs::CameraInfo ci;
-  ci.header.frame_id = frame_id;
-  ci.width = static_cast<uint32_t>(k.width);
-  ci.height = static_cast<uint32_t>(k.height);
-  ci.distortion_model = "plumb_bob";
-  ci.D = {k.k1, k.k2, k.p1, k.p2, k.k3};
-  ci.K = {k.fx, 0, k.cx, 0, k.fy, k.cy, 0, 0, 1};
-  ci.R = {1, 0, 0, 0, 1, 0, 0, 0, 1};
-  ci.P = {k.fx, 0, k.cx, 0, 0, k.fy, k.cy, 0, 0, 0, 1, 0};
-  return ci;
-}
-
 CalibrationRos::CalibrationRos(ros::NodeHandle nh, ros::NodeHandle pnh) : nh_(nh), pnh_(pnh)
 {
   readParameters(pnh_);

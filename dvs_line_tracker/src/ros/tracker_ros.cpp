@@ -1,5 +1,6 @@
 #include <dvs_line_tracker/tracker_params.h>
 #include <dvs_line_tracker/tracker_ros.h>
+#include <dvs_calibration/camera_info_conversions.h>
 
 #include <cv_bridge/cv_bridge.h>
 #include <dvs_driver/event_bag_io.h>
@@ -29,23 +30,6 @@ geometry_msgs::Pose toPoseMsg(const CameraPose& pose)
   p.orientation.z = q.z();
   p.orientation.w = q.w();
   return p;
-}
-
-dvs_calibration::CameraModel cameraFromInfo(const sensor_msgs::CameraInfo& info)
-{
-  dvs_calibration::CameraIntrinsics k;
-  k.width = static_cast<int>(info.width);
-  k.height = static_cast<int>(info.height);
-  k.fx = info.K[0];
-  k.fy = info.K[4];
-  k.cx = info.K[2];
-  k.cy = info.K[5];
-  if (!info.D.empty() && info.distortion_model != "plumb_bob")
-    throw std::runtime_error("camera_info distortion_model '" + info.distortion_model + "' is not plumb_bob");
-  double* const d[5] = {&k.k1, &k.k2, &k.p1, &k.p2, &k.k3};
-  for (size_t i = 0; i < info.D.size() && i < 5; ++i)
-    *d[i] = info.D[i];
-  return dvs_calibration::CameraModel(k);
 }
 }  // namespace
 
@@ -126,7 +110,7 @@ void TrackerRos::onCameraInfo(const sensor_msgs::CameraInfoConstPtr& msg)
     return;
   try
   {
-    startTracker(cameraFromInfo(*msg));
+    startTracker(dvs_calibration::cameraFromCameraInfo(*msg));
     camera_info_sub_.shutdown();
   }
   catch (const std::exception& e)

@@ -1,5 +1,6 @@
 #pragma once
 // ROS messages for the simulator's outputs (library dvs_screen_sim_ros).
+#include <dvs_calibration/camera_info_conversions.h>
 #include <dvs_calibration/camera_model.h>
 #include <dvs_screen_sim/pose.h>
 #include <dvs_screen_sim/scene.h>
@@ -21,8 +22,6 @@ geometry_msgs::PoseStamped toPoseStamped(const StampedPose& pose, const std::str
 /// Ground truth T_world_cam as a transform world_frame -> child_frame.
 geometry_msgs::TransformStamped toTransform(const StampedPose& pose, const std::string& world_frame = "world",
                                             const std::string& child_frame = "dvs_gt");
-/// plumb_bob CameraInfo (K, D, R = I, P = [K|0]).
-sensor_msgs::CameraInfo toCameraInfo(const dvs_calibration::CameraModel& camera, const std::string& frame_id = "dvs");
 /// The scene as markers: one LINE_LIST with every map edge (namespace "map_edges") and one
 /// TRIANGLE_LIST fan per polygon (namespace "polygons", grey level = reflectance).
 visualization_msgs::MarkerArray mapMarkers(const Scene& scene, const ros::Time& stamp,

@@ -42,7 +42,7 @@ void SimulationBagWriter::finish(const PoseTrajectory& groundtruth)
 {
   const double t0 = static_cast<double>(config_.time_offset_ns) * 1e-9;
   const double t_end = t0 + config_.duration;
-  sensor_msgs::CameraInfo info = toCameraInfo(config_.camera, "dvs");
+  sensor_msgs::CameraInfo info = dvs_calibration::toCameraInfoMsg(config_.camera, "dvs");
   for (long i = 0;; ++i)
   {
     const double t = t0 + 0.1 * static_cast<double>(i);

@@ -49,21 +49,6 @@ geometry_msgs::TransformStamped toTransform(const StampedPose& pose, const std::
   return msg;
 }
 
-sensor_msgs::CameraInfo toCameraInfo(const dvs_calibration::CameraModel& camera, const std::string& frame_id)
-{
-  const auto& k = camera.intrinsics();
-  sensor_msgs::CameraInfo msg;
-  msg.header.frame_id = frame_id;
-  msg.width = static_cast<uint32_t>(k.width);
-  msg.height = static_cast<uint32_t>(k.height);
-  msg.distortion_model = "plumb_bob";
-  msg.D = {k.k1, k.k2, k.p1, k.p2, k.k3};
-  msg.K = {k.fx, 0, k.cx, 0, k.fy, k.cy, 0, 0, 1};
-  msg.R = {1, 0, 0, 0, 1, 0, 0, 0, 1};
-  msg.P = {k.fx, 0, k.cx, 0, 0, k.fy, k.cy, 0, 0, 0, 1, 0};
-  return msg;
-}
-
 visualization_msgs::MarkerArray mapMarkers(const Scene& scene, const ros::Time& stamp, const std::string& world_frame)
 {
   visualization_msgs::MarkerArray array;

@@ -311,7 +311,7 @@ int main(int argc, char** argv)
         tfm.transforms.push_back(toTransform(sp, world_frame, gt_frame));
         bag.write("/tf", msg.header.stamp, tfm);
       }
-      const auto info = toCameraInfo(camera);
+      const auto info = dvs_calibration::toCameraInfoMsg(camera, "dvs");
       bag.write("/dvs/camera_info", secondsToRosTime(start_dvs * 1e-9), info);
       bag.close();
       ROS_INFO("screen_loop: recorded %zu events and %zu poses to %s", rescaled.size(), groundtruth.size(),

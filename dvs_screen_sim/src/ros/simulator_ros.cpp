@@ -81,7 +81,7 @@ void SimulatorRos::runLoop()
   EventSimulator sim(config_.camera, config_.scene, config_.events, config_.sampling, config_.seed);
   const int64_t period_ns = static_cast<int64_t>(std::llround(config_.packet_period * 1e9));
   const double gt_period = 1.0 / config_.groundtruth_rate;
-  sensor_msgs::CameraInfo info = toCameraInfo(config_.camera, camera_frame_);
+  sensor_msgs::CameraInfo info = dvs_calibration::toCameraInfoMsg(config_.camera, camera_frame_);
   dvs_driver::EventVector buffer;
   // Let consumers (tracker, recorder) connect first, so they see the run from its start.
   const auto delay_end = std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
