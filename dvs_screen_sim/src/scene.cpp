@@ -62,6 +62,25 @@ void parseModulation(const YAML::Node& mn, const std::string& where, IntensityMo
   m.duty = get<double>(mn, "duty", m.duty, where + ".modulation");
 }
 
+/// Square and sine modulations are written out; constant ones need no key, callbacks cannot be.
+bool writtenToYaml(const IntensityModulation& m)
+{
+  return m.type == IntensityModulation::Type::Square || m.type == IntensityModulation::Type::Sine;
+}
+
+/// The inverse of parseModulation, for a modulation that is writtenToYaml.
+YAML::Node modulationToYaml(const IntensityModulation& m)
+{
+  YAML::Node mn;
+  mn["type"] = m.type == IntensityModulation::Type::Square ? "square" : "sine";
+  mn["frequency_hz"] = m.frequency_hz;
+  mn["phase"] = m.phase;
+  mn["low"] = m.low;
+  mn["high"] = m.high;
+  mn["duty"] = m.duty;
+  return mn;
+}
+
 }  // namespace
 
 double IntensityModulation::valueAt(double t, double constant_reflectance) const
@@ -386,18 +405,8 @@ YAML::Node sceneToYaml(const Scene& scene)
       verts.push_back(vv);
     }
     pn["vertices"] = verts;
-    const auto& m = p.modulation;
-    if (m.type == IntensityModulation::Type::Square || m.type == IntensityModulation::Type::Sine)
-    {
-      YAML::Node mn;
-      mn["type"] = m.type == IntensityModulation::Type::Square ? "square" : "sine";
-      mn["frequency_hz"] = m.frequency_hz;
-      mn["phase"] = m.phase;
-      mn["low"] = m.low;
-      mn["high"] = m.high;
-      mn["duty"] = m.duty;
-      pn["modulation"] = mn;
-    }
+    if (writtenToYaml(p.modulation))
+      pn["modulation"] = modulationToYaml(p.modulation);
     polys.push_back(pn);
   }
   node["polygons"] = polys;
@@ -419,18 +428,8 @@ YAML::Node sceneToYaml(const Scene& scene)
       in["top_left"] = tl;
       in["size"] = sz;
       in["gain"] = im.gain_value;
-      const auto& m = im.gain;
-      if (m.type == IntensityModulation::Type::Square || m.type == IntensityModulation::Type::Sine)
-      {
-        YAML::Node mn;
-        mn["type"] = m.type == IntensityModulation::Type::Square ? "square" : "sine";
-        mn["frequency_hz"] = m.frequency_hz;
-        mn["phase"] = m.phase;
-        mn["low"] = m.low;
-        mn["high"] = m.high;
-        mn["duty"] = m.duty;
-        in["modulation"] = mn;
-      }
+      if (writtenToYaml(im.gain))
+        in["modulation"] = modulationToYaml(im.gain);
       imgs.push_back(in);
     }
     node["images"] = imgs;
