@@ -34,7 +34,7 @@ bool parseNumbers(const std::string& line, double* values, int& count)
 }
 }  // namespace
 
-PoseTrajectory readTumTrajectory(std::istream& in, const std::string& name)
+PoseTrajectory readTumTrajectory(std::istream& in, const std::string& name, TimeOrder order)
 {
   PoseTrajectory poses;
   std::string line;
@@ -72,20 +72,23 @@ PoseTrajectory readTumTrajectory(std::istream& in, const std::string& name)
       throw TrajectoryFileError(where + "quaternion norm " + std::to_string(n) + " is far from 1");
     q.normalize();
     sp.T_world_cam.q = q;
-    if (!poses.empty() && !(sp.t > poses.back().t))
-      throw TrajectoryFileError(where + "time " + std::to_string(sp.t) + " does not increase (previous " +
-                                std::to_string(poses.back().t) + ")");
+    const bool in_order = poses.empty() || sp.t > poses.back().t ||
+                          (order == TimeOrder::NonDecreasing && sp.t == poses.back().t);
+    if (!in_order)
+      throw TrajectoryFileError(where + "time " + std::to_string(sp.t) +
+                                (order == TimeOrder::NonDecreasing ? " goes backwards" : " does not increase") +
+                                " (previous " + std::to_string(poses.back().t) + ")");
     poses.push_back(sp);
   }
   return poses;
 }
 
-PoseTrajectory readTumTrajectory(const std::string& path)
+PoseTrajectory readTumTrajectory(const std::string& path, TimeOrder order)
 {
   std::ifstream in(path);
   if (!in)
     throw TrajectoryFileError("cannot open trajectory file '" + path + "'");
-  return readTumTrajectory(in, path);
+  return readTumTrajectory(in, path, order);
 }
 
 void writeTumTrajectory(std::ostream& out, const PoseTrajectory& poses, const std::string& header)

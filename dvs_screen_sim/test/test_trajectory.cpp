@@ -60,11 +60,23 @@ TEST(TrajectoryIo, RejectsMalformedLinesNamingTheLine)
   }
   std::stringstream back("1 0 0 0 0 0 0 1\n0.5 0 0 0 0 0 0 1\n");
   EXPECT_THROW(readTumTrajectory(back, "b"), TrajectoryFileError);
+  std::stringstream repeat("1 0 0 0 0 0 0 1\n1 0 0 0 0 0 0 1\n");
+  EXPECT_THROW(readTumTrajectory(repeat, "r"), TrajectoryFileError);  // ground truth must increase
   std::stringstream word("1 0 0 zero 0 0 0 1\n");
   EXPECT_THROW(readTumTrajectory(word, "w"), TrajectoryFileError);
   std::stringstream zeroq("1 0 0 0 0 0 0 0\n");
   EXPECT_THROW(readTumTrajectory(zeroq, "q"), TrajectoryFileError);
   EXPECT_THROW(readTumTrajectory("/nonexistent/traj.txt"), TrajectoryFileError);
+}
+
+TEST(TrajectoryIo, EstimatesMayRepeatATimeButNotGoBack)
+{
+  std::stringstream repeat("1 0 0 0 0 0 0 1\n1 0.1 0 0 0 0 0 1\n2 0 0 0 0 0 0 1\n");
+  const PoseTrajectory poses = readTumTrajectory(repeat, "est.txt", TimeOrder::NonDecreasing);
+  ASSERT_EQ(3u, poses.size());
+  EXPECT_DOUBLE_EQ(0.1, poses[1].T_world_cam.p.x());
+  std::stringstream back("1 0 0 0 0 0 0 1\n0.5 0 0 0 0 0 0 1\n");
+  EXPECT_THROW(readTumTrajectory(back, "est.txt", TimeOrder::NonDecreasing), TrajectoryFileError);
 }
 
 TEST(HelixTrajectory, OpticalAxisThroughSquareCentreAtGrowingDistance)

@@ -19,11 +19,21 @@ public:
   using std::runtime_error::runtime_error;
 };
 
+/// What the reader requires of consecutive times: ground truth and trajectories to play must
+/// strictly increase; a tracker's estimate may repeat a time (several pose updates on events
+/// with the same time stamp) but never go back.
+enum class TimeOrder
+{
+  StrictlyIncreasing,
+  NonDecreasing,
+};
+
 /// Read a TUM (or CSV) trajectory. Quaternions are normalised (a norm far from 1, < 0.5 or
 /// > 1.5, is an error). Throws TrajectoryFileError naming file and line for a line without
-/// exactly 8 numbers, non-finite values, or times that do not strictly increase.
-PoseTrajectory readTumTrajectory(const std::string& path);
-PoseTrajectory readTumTrajectory(std::istream& in, const std::string& name);
+/// exactly 8 numbers, non-finite values, or times that break `order`.
+PoseTrajectory readTumTrajectory(const std::string& path, TimeOrder order = TimeOrder::StrictlyIncreasing);
+PoseTrajectory readTumTrajectory(std::istream& in, const std::string& name,
+                                 TimeOrder order = TimeOrder::StrictlyIncreasing);
 
 /// Write a TUM trajectory (times with 9 decimals, positions and quaternions with 9 significant
 /// decimals). `header` (may be empty) is written as a '#' comment line first. Throws

@@ -10,44 +10,11 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <fstream>
 #include <iostream>
-#include <sstream>
 #include <string>
 #include <vector>
 
 using namespace dvs_screen_sim;
-
-namespace
-{
-/// TUM lines of an estimate: times may repeat (a tracker updating on several events with the
-/// same time stamp), so this reader only requires them not to decrease.
-PoseTrajectory readEstimate(const std::string& path)
-{
-  std::ifstream in(path);
-  if (!in)
-    throw std::runtime_error("cannot open " + path);
-  PoseTrajectory out;
-  std::string line;
-  size_t n = 0;
-  while (std::getline(in, line))
-  {
-    ++n;
-    if (line.empty() || line[0] == '#')
-      continue;
-    std::istringstream ss(line);
-    StampedPose sp;
-    double qx, qy, qz, qw;
-    if (!(ss >> sp.t >> sp.T_world_cam.p.x() >> sp.T_world_cam.p.y() >> sp.T_world_cam.p.z() >> qx >> qy >> qz >> qw))
-      throw std::runtime_error(path + ":" + std::to_string(n) + ": expected 't tx ty tz qx qy qz qw'");
-    if (!out.empty() && sp.t < out.back().t)
-      throw std::runtime_error(path + ":" + std::to_string(n) + ": time goes backwards");
-    sp.T_world_cam.q = Eigen::Quaterniond(qw, qx, qy, qz).normalized();
-    out.push_back(sp);
-  }
-  return out;
-}
-}  // namespace
 
 int main(int argc, char** argv)
 {
@@ -77,7 +44,8 @@ int main(int argc, char** argv)
   }
   try
   {
-    const PoseTrajectory est = readEstimate(est_path);
+    // A tracker may update several times on events with the same time stamp.
+    const PoseTrajectory est = readTumTrajectory(est_path, TimeOrder::NonDecreasing);
     const PoseTrajectory gt = readTumTrajectory(gt_path);
     if (gt.size() < 2)
       throw std::runtime_error("ground truth has fewer than 2 poses");
