@@ -195,25 +195,27 @@ int main(int argc, char** argv)
   LineTrackerParams incremental;
   LineTrackerParams full;
   full.estimator.solver = SolverType::kFullGaussNewton;
-  LineTrackerParams thesis;  // the thesis's buffer size and an undamped solver
+  LineTrackerParams thesis;  // the thesis's buffer size, events where they are, an undamped solver
   thesis.buffer_size = 8;
+  thesis.buffer_motion_px = 0;
   thesis.estimator.damping = 1e-4;
+  thesis.edge_run_model = false;
   thesis.edge_offset_px = 0;
-  LineTrackerParams no_offset;  // the default without the dark-side edge offset correction
-  no_offset.edge_offset_px = 0;
-  LineTrackerParams previous;   // the defaults before 2026-11-21 08:10 (buffer 16, damping 0.1, no offset)
-  previous.buffer_size = 16;
-  previous.estimator.damping = 0.1;
-  previous.edge_offset_px = 0;
+  LineTrackerParams constant_offset;  // the default with the constant dark-side offset instead of the run model
+  constant_offset.edge_run_model = false;
+  LineTrackerParams previous;  // the settings before 2026-11-21 09:40 (buffer 20 without motion bound, constant offset)
+  previous.buffer_size = 20;
+  previous.buffer_motion_px = 0;
+  previous.edge_run_model = false;
   for (const auto& s : seqs)
   {
     report(s, "incremental (default)", incremental, runs);
     if (s.name.find("flip 1200 deg/s, 2 m") != std::string::npos || !quick)
     {
       report(s, "full Gauss-Newton x3", full, 1);
-      report(s, "incremental, buffer 8, damping 1e-4", thesis, 1);
-      report(s, "default, edge_offset_px 0", no_offset, 1);
-      report(s, "buffer 16, damping 0.1, edge_offset_px 0 (previous default)", previous, 1);
+      report(s, "thesis: buffer 8, damping 1e-4, pixel centres", thesis, 1);
+      report(s, "default, constant edge offset instead of the run model", constant_offset, 1);
+      report(s, "buffer 20, no motion bound, constant edge offset (previous default)", previous, 1);
     }
   }
   std::printf("\n## Frame-based baseline (accumulate a frame, detect the square from scratch, PnP)\n\n");

@@ -70,10 +70,29 @@ std::string validateParams(const LineTrackerParams& p)
     err << "full_iterations must be >= 1; ";
   if (!(p.edge_offset_px >= 0 && p.edge_offset_px < p.attribution.max_orthogonal_px))
     err << "edge_offset_px must be in [0, max_orthogonal_distance_px) (got " << p.edge_offset_px << "); ";
+  if (!(p.contrast_threshold >= 0 && p.contrast_threshold <= 2))
+    err << "contrast_threshold must be in [0, 2] (0: learned; got " << p.contrast_threshold << "); ";
+  if (!(p.edge_contrast_ratio > 1 && std::isfinite(p.edge_contrast_ratio)))
+    err << "edge_contrast_ratio must be > 1 (got " << p.edge_contrast_ratio << "); ";
+  if (!(p.buffer_motion_px >= 0 && std::isfinite(p.buffer_motion_px)))
+    err << "buffer_motion_px must be >= 0 (0: off; got " << p.buffer_motion_px << "); ";
   if (p.estimator.extra_relinearizations < 0)
     err << "extra_relinearizations must be >= 0; ";
   return err.str();
 }
+
+namespace
+{
+EdgeRunModelParams edgeModelParams(const LineTrackerParams& p)
+{
+  EdgeRunModelParams m;
+  m.enabled = p.edge_run_model;
+  m.contrast_threshold = p.contrast_threshold;
+  m.edge_contrast_ratio = p.edge_contrast_ratio;
+  m.constant_offset_px = p.edge_offset_px;
+  return m;
+}
+}  // namespace
 
 LineTracker::LineTracker(const dvs_calibration::CameraModel& camera, const LineMap& map,
                          const LineTrackerParams& params)
@@ -81,6 +100,7 @@ LineTracker::LineTracker(const dvs_calibration::CameraModel& camera, const LineM
   , map_(map)
   , params_(params)
   , hough_(camera.width(), camera.height(), params.hough)
+  , edge_model_(camera.width(), camera.height(), edgeModelParams(params))
 {
   const std::string err = validateParams(params);
   if (!err.empty())
@@ -104,6 +124,8 @@ LineTracker::LineTracker(const dvs_calibration::CameraModel& camera, const LineM
   last_projection_.resize(n);
 }
 
+
+
 void LineTracker::reset()
 {
   hough_.reset();
@@ -126,6 +148,7 @@ bool LineTracker::processEvent(const dvs_driver::Event& e)
     return false;
   }
   const Eigen::Vector2d p = camera_.undistortedPixelLut(e.x, e.y).cast<double>();
+  const double edge_offset = edge_model_.update(e.x, e.y, e.polarity);
   if (state_ != TrackerState::kTracking)
     return processInitializing(p, e);
 
@@ -138,8 +161,9 @@ bool LineTracker::processEvent(const dvs_driver::Event& e)
     ++stats_.events_attributed;
     ++check_attributed_;
     for (int i = 0; i < n; ++i)
-      buffers_[segs[i]].insert(edgeCorrected(p, e.polarity, segs[i]), projected_[segs[i]],
-                               params_.attribution.max_orthogonal_px, params_.attribution.max_parallel_px);
+      buffers_[segs[i]].insert(edgeCorrected(p, e.polarity, segs[i], edge_offset), projected_[segs[i]],
+                               params_.attribution.max_orthogonal_px, params_.attribution.max_parallel_px,
+                               params_.buffer_motion_px > 0 ? params_.buffer_motion_px : 1e300, params_.estimator.huber_px);
     updatePose(segs, n);
     updated = true;
   }
@@ -254,14 +278,13 @@ CameraPose LineTracker::refineWithWindowEvents(const CameraPose& initial) const
       int segs[2];
       const int m = attributeEvent(p, proj.data(), static_cast<int>(n), params_.attribution, segs);
       for (int j = 0; j < m; ++j)
-        buffers[segs[j]].insert(p, proj[segs[j]]);
+        buffers[segs[j]].insert(p, proj[segs[j]], 1e300, 1e300, 1e300, params_.estimator.huber_px);
     }
     int used = 0;
     for (size_t i = 0; i < n; ++i)
     {
       eqs[i].active = buffers[i].size() >= 5 &&
-                      linearizeSegment(k_, pose, map_.segments[i].p0_world, map_.segments[i].p1_world, buffers[i],
-                                       params_.estimator.huber_px, eqs[i]);
+                      linearizeSegment(k_, pose, map_.segments[i].p0_world, map_.segments[i].p1_world, buffers[i], eqs[i]);
       eqs[i].x_lin.setZero();
       used += eqs[i].active ? 1 : 0;
     }
@@ -421,7 +444,7 @@ void LineTracker::projectSegments(bool update_visibility)
   }
 }
 
-Eigen::Vector2d LineTracker::edgeCorrected(const Eigen::Vector2d& p, bool polarity, int i)
+Eigen::Vector2d LineTracker::edgeCorrected(const Eigen::Vector2d& p, bool polarity, int i, double edge_offset)
 {
   // ON events: the bright side gains pixels, i.e. the edge moves towards its dark side; OFF: the
   // other way. Pose jitter is uncorrelated with polarity and averages out of the evidence.
@@ -449,18 +472,17 @@ Eigen::Vector2d LineTracker::edgeCorrected(const Eigen::Vector2d& p, bool polari
   score += (polarity ? 1.0 : -1.0) * moved * inside_along_normal;
   // Trusted once the edges have moved about a pixel consistently.
   constexpr double kMinScore = 1.0;
-  if (params_.edge_offset_px <= 0 || std::abs(score) < kMinScore)
+  if (std::abs(score) < kMinScore)
     return p;
   const double dark_along_normal = score > 0 ? inside_along_normal : -inside_along_normal;
-  return p - dark_along_normal * params_.edge_offset_px * s.normal;
+  return p - dark_along_normal * edge_offset * s.normal;
 }
 
 void LineTracker::relinearize(int i)
 {
   SegmentNormalEquations& eq = equations_[i];
   eq.active = projected_[i].visible &&
-              linearizeSegment(k_, pose_, map_.segments[i].p0_world, map_.segments[i].p1_world, buffers_[i],
-                               params_.estimator.huber_px, eq, params_.attribution.max_orthogonal_px);
+              linearizeSegment(k_, pose_, map_.segments[i].p0_world, map_.segments[i].p1_world, buffers_[i], eq);
   eq.x_lin = x_accumulated_;
 }
 
@@ -475,6 +497,9 @@ void LineTracker::updatePose(int changed[2], int num_changed)
     for (int r = 0; r < ep.extra_relinearizations && n > 1; ++r)
     {
       round_robin_ = (round_robin_ + 1) % n;
+      // Segments without events of their own lose their stale events here.
+      if (params_.buffer_motion_px > 0 && projected_[round_robin_].in_front)
+        buffers_[round_robin_].expire(projected_[round_robin_], params_.buffer_motion_px);
       relinearize(round_robin_);
     }
     Vector6d delta;
@@ -530,6 +555,12 @@ double LineTracker::meanResidualPx() const
 void LineTracker::checkQuality()
 {
   projectSegments(true);
+  // Segments that moved without producing events (e.g. an edge leaving the view) would keep
+  // their stale events: drop them here too, not only when the segment receives an event.
+  if (params_.buffer_motion_px > 0)
+    for (size_t i = 0; i < buffers_.size(); ++i)
+      if (projected_[i].in_front)
+        buffers_[i].expire(projected_[i], params_.buffer_motion_px);
   int visible = 0;
   for (const auto& s : projected_)
     visible += s.visible ? 1 : 0;

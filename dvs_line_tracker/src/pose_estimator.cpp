@@ -19,13 +19,12 @@ void projectWithJacobian(const PinholeK& k, const Eigen::Vector3d& p, Eigen::Vec
 }
 
 bool linearizeSegment(const PinholeK& k, const CameraPose& pose, const Eigen::Vector3d& p0_world,
-                      const Eigen::Vector3d& p1_world, const SegmentBuffer& buffer, double huber_px,
-                      SegmentNormalEquations& out, double gate_px)
+                      const Eigen::Vector3d& p1_world, const SegmentBuffer& buffer, SegmentNormalEquations& out)
 {
   out.H.setZero();
   out.g.setZero();
   out.sum_sq = 0;
-  out.num_points = 0;
+  out.num_points = buffer.size();
   const Eigen::Vector3d pc0 = pose.toCamera(p0_world), pc1 = pose.toCamera(p1_world);
   if (pc0.z() < 1e-3 || pc1.z() < 1e-3)
     return false;
@@ -35,37 +34,34 @@ bool linearizeSegment(const PinholeK& k, const CameraPose& pose, const Eigen::Ve
   projectWithJacobian(k, pc1, b, Jb);
   const Eigen::Vector2d e = b - a;
   const double len = e.norm();
-  if (len < 1e-6 || buffer.size() == 0)
+  if (len < 1e-6 || buffer.size() < 2)
     return false;
   const Eigen::Vector2d ehat = e / len;
   const Eigen::Vector2d n(-ehat.y(), ehat.x());
-  // Per point J = -(A + s B) with A = n^T Ja, B = n^T (Jb - Ja) the same for all points of the
-  // segment: accumulate scalar moments per point and build H, g from three outer products.
+  // Per point i (weight w_i, s_i its position along a->b in units of the length, r_i its
+  // residual n^T (p_i - a)): J_i = -(A + s_i B) with A = n^T Ja, B = n^T (Jb - Ja) the same for
+  // all points. H and g need only the weighted sums of 1, s, s^2, r, r s, which follow from the
+  // buffer's raw moments: with d_i = p_i - a, sum w d = m1 - W a and sum w d d^T = M2 - m1 a^T -
+  // a m1^T + W a a^T.
+  const PointMoments& m = buffer.moments();
+  const Eigen::Vector2d m1(m.x, m.y);
+  const Eigen::Vector2d d1 = m1 - m.w * a;
+  Eigen::Matrix2d M2;
+  M2 << m.xx, m.xy, m.xy, m.yy;
+  const Eigen::Matrix2d D2 = M2 - m1 * a.transpose() - a * m1.transpose() + m.w * a * a.transpose();
+  const double sw = m.w;
+  const double sws = ehat.dot(d1) / len;
+  const double swss = ehat.dot(D2 * ehat) / (len * len);
+  const double swr = n.dot(d1);
+  const double swrs = n.dot(D2 * ehat) / len;
+  out.sum_sq = n.dot(D2 * n);
   const Eigen::Matrix<double, 1, 6> A = n.transpose() * Ja;
   const Eigen::Matrix<double, 1, 6> B = n.transpose() * Jb - A;
-  double sw = 0, sws = 0, swss = 0, swr = 0, swrs = 0;
-  for (int i = 0; i < buffer.size(); ++i)
-  {
-    const Eigen::Vector2d w = buffer.point(i) - a;
-    const double s = ehat.dot(w) / len;
-    const double r = n.dot(w);
-    const double ar = std::abs(r);
-    if (ar > gate_px)
-      continue;
-    const double weight = ar <= huber_px ? 1.0 : huber_px / ar;
-    sw += weight;
-    sws += weight * s;
-    swss += weight * s * s;
-    swr += weight * r;
-    swrs += weight * r * s;
-    out.sum_sq += r * r;
-    ++out.num_points;
-  }
   const Eigen::Matrix<double, 6, 1> At = A.transpose(), Bt = B.transpose();
   const Matrix6d AB = At * B;
   out.H.noalias() = sw * (At * A) + sws * (AB + AB.transpose()) + swss * (Bt * B);
   out.g.noalias() = -(swr * At + swrs * Bt);
-  return out.num_points >= 2;
+  return sw > 0;
 }
 
 bool solveStep(const SegmentNormalEquations* eqs, int n, const Vector6d& x_now, double damping, Vector6d& delta)
@@ -83,8 +79,11 @@ bool solveStep(const SegmentNormalEquations* eqs, int n, const Vector6d& x_now, 
   }
   if (used == 0)
     return false;
-  const double mean_diag = H.diagonal().mean();
-  H.diagonal().array() += damping * mean_diag + 1e-9;
+  // Marquardt's scaling: each parameter is damped relative to its own information, so the
+  // damping does not depend on the units (rad vs. m) and does not favour explaining an image
+  // motion by a rotation rather than by a translation.
+  H.diagonal().array() *= 1.0 + damping;
+  H.diagonal().array() += 1e-9;
   const Eigen::LLT<Matrix6d> llt(H);
   if (llt.info() != Eigen::Success)
     return false;

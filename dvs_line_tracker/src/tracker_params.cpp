@@ -43,7 +43,11 @@ void forEachParam(LineTrackerParams& p, const std::function<void(const ParamRef&
   // Tracking (thesis 4.2.2).
   d("max_orthogonal_distance_px", p.attribution.max_orthogonal_px, "px");
   d("max_parallel_distance_px", p.attribution.max_parallel_px, "px");
+  b("edge_run_model", p.edge_run_model);
+  d("contrast_threshold", p.contrast_threshold, "log intensity");
+  d("edge_contrast_ratio", p.edge_contrast_ratio, "");
   d("edge_offset_px", p.edge_offset_px, "px");
+  d("buffer_motion_px", p.buffer_motion_px, "px");
   i("buffer_size", p.buffer_size, "events");
   i("full_iterations", p.estimator.full_iterations, "");
   i("extra_relinearizations", p.estimator.extra_relinearizations, "");

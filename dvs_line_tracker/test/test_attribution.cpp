@@ -121,3 +121,33 @@ TEST(SegmentBuffer, StaleEventsOutsideTheAttributionRangeGoFirst)
   b.insert({95, 0}, seg);  // 15 px beyond the end (> 10): becomes stale next time
   EXPECT_EQ(b.insert({49, 0}, seg, 2.0, 10.0), 0);  // slot 0 held the (95,0) event
 }
+
+TEST(SegmentBuffer, EventsTheLineMovedAwayFromExpire)
+{
+  // Motion bound 0.5 px: an event stays while its line has moved <= 0.5 px at it since its
+  // insertion, whatever its own residual.
+  ProjectedSegment seg;
+  seg.set({0, 0}, {80, 0});
+  SegmentBuffer b(8);
+  b.insert({10, 0.3}, seg, 2.0, 10.0, 0.5);  // residual 0.3 px at insertion: kept as long as the line stays
+  b.insert({40, -0.2}, seg, 2.0, 10.0, 0.5);
+  ProjectedSegment moved = seg;
+  moved.set({0, 0.4}, {80, 0.4});  // the line moved 0.4 px along its normal: both stay
+  b.expire(moved, 0.5);
+  EXPECT_EQ(b.size(), 2);
+  // The line rotates about x = 40: 0.75 px of motion at x = 10, none at x = 40.
+  moved.set({0, 1.0}, {80, -1.0});
+  b.expire(moved, 0.5);
+  ASSERT_EQ(b.size(), 1);
+  EXPECT_DOUBLE_EQ(b.point(0).x(), 40.0);
+  // Inserting with the bound expires too, and the freed slot is reused before any replacement.
+  SegmentBuffer c(2);
+  c.insert({10, 0}, seg, 2.0, 10.0, 0.5);
+  c.insert({70, 0}, seg, 2.0, 10.0, 0.5);
+  ProjectedSegment tilted;
+  tilted.set({0, 0}, {80, 1.6});  // 1.4 px of motion at x = 70, 0.2 px at x = 10
+  const int slot = c.insert({20, 0.4}, tilted, 2.0, 10.0, 0.5);
+  EXPECT_EQ(c.size(), 2);
+  EXPECT_DOUBLE_EQ(c.point(slot).x(), 20.0);
+  EXPECT_TRUE(c.point(0).x() == 10.0 || c.point(1).x() == 10.0);
+}

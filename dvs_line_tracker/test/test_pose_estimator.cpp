@@ -63,10 +63,10 @@ TEST(PoseEstimator, SegmentGradientMatchesNumericalCost)
   off << 0.01, -0.02, 0.015, 0.02, -0.01, 0.03;
   pose.applyIncrement(off);
   SegmentNormalEquations eq;
-  ASSERT_TRUE(linearizeSegment(k, pose, map.segments[1].p0_world, map.segments[1].p1_world, buffers[1], 1e9, eq));
+  ASSERT_TRUE(linearizeSegment(k, pose, map.segments[1].p0_world, map.segments[1].p1_world, buffers[1], eq));
   auto cost = [&](const CameraPose& p) {
     SegmentNormalEquations e;
-    linearizeSegment(k, p, map.segments[1].p0_world, map.segments[1].p1_world, buffers[1], 1e9, e);
+    linearizeSegment(k, p, map.segments[1].p0_world, map.segments[1].p1_world, buffers[1], e);
     return 0.5 * e.sum_sq;
   };
   for (int d = 0; d < 6; ++d)
@@ -97,7 +97,7 @@ TEST(PoseEstimator, GaussNewtonConvergesToTruthFromExactPoints)
   {
     for (int i = 0; i < 4; ++i)
     {
-      eqs[i].active = linearizeSegment(k, pose, map.segments[i].p0_world, map.segments[i].p1_world, buffers[i], 1e9,
+      eqs[i].active = linearizeSegment(k, pose, map.segments[i].p0_world, map.segments[i].p1_world, buffers[i],
                                        eqs[i]);
       eqs[i].x_lin = x;
     }

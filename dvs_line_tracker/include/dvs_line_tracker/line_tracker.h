@@ -6,6 +6,7 @@
 #include <dvs_calibration/camera_model.h>
 #include <dvs_driver/event.h>
 #include <dvs_line_tracker/camera_pose.h>
+#include <dvs_line_tracker/edge_run_model.h>
 #include <dvs_line_tracker/hough_line_detector.h>
 #include <dvs_line_tracker/line_map.h>
 #include <dvs_line_tracker/polygon_search.h>
@@ -35,12 +36,20 @@ struct LineTrackerParams
   PoseInitParams init;
   AttributionParams attribution;
   PoseEstimatorParams estimator;
-  /// Events of an edge lie on its dark side: the log-intensity response makes a pixel fire most
-  /// of an edge's events while it is mostly dark (bright edge entering: early; leaving: late).
-  /// Attributed events are moved this far towards the segment's bright side, which is learned
-  /// online from event polarities and the edge's normal motion (BENCHMARKS.md). 0: off.
-  double edge_offset_px = 0.15;
-  int buffer_size = 20;              ///< events per segment buffer (thesis: 8; 20 measured more accurate, BENCHMARKS.md)
+  /// Edge position inside the firing pixel (edge_run_model.h): each attributed event is moved
+  /// from its pixel centre to where its index within the pixel's run of same-polarity events
+  /// puts the edge, towards the segment's bright side (learned online from event polarities and
+  /// the edge's normal motion). Off: the constant `edge_offset_px` (the mean of that offset; events
+  /// of an edge lie on its dark side on average).
+  bool edge_run_model = true;
+  double contrast_threshold = 0;    ///< the sensor's contrast threshold C (log intensity); 0: learned from the run lengths
+  double edge_contrast_ratio = 9.0; ///< bright / dark intensity across the tracked edges (black print on white paper: ~9)
+  double edge_offset_px = 0.15;     ///< constant offset (no run model, or until C is learned); 0: pixel centres
+  /// Buffered events are dropped once their projected segment has moved this far (along its
+  /// normal, at the event) since they were inserted: buffers then span a bounded image motion,
+  /// long when the edge is slow, short when fast. 0: off (thesis: count only).
+  double buffer_motion_px = 0.5;
+  int buffer_size = 40;              ///< events per segment buffer (thesis: 8; with the motion bound, 40 measured most accurate, BENCHMARKS.md)
   int init_check_interval = 200;     ///< voted events between detection attempts while initialising
   double init_min_check_period_s = 0.005;  ///< and at least this much event time between attempts (bounds the CPU at high rates)
   int init_min_events = 100;         ///< voted events before the first detection attempt
@@ -118,7 +127,12 @@ private:
   void relinearize(int segment);
   void updatePose(int changed[2], int num_changed);
   /// The event position corrected for the dark-side offset of segment `i` (updates its score).
-  Eigen::Vector2d edgeCorrected(const Eigen::Vector2d& p, bool polarity, int i);
+  Eigen::Vector2d edgeCorrected(const Eigen::Vector2d& p, bool polarity, int i, double edge_offset);
+
+public:
+  const EdgeRunModel& edgeModel() const { return edge_model_; }
+
+private:
   void checkQuality();
   void declareLost(const std::string& reason);
 
@@ -149,6 +163,7 @@ private:
   std::vector<int> segment_polygon_;        ///< first polygon holding the segment, -1 if none
   std::vector<ProjectedSegment> last_projection_;  ///< the segment's projection at its previous event
   std::vector<SegmentNormalEquations> equations_;
+  EdgeRunModel edge_model_;
   Vector6d x_accumulated_ = Vector6d::Zero();
   int round_robin_ = 0;
   uint64_t check_events_ = 0, check_attributed_ = 0;

@@ -29,8 +29,8 @@ struct PoseEstimatorParams
   SolverType solver = SolverType::kIncremental;
   int full_iterations = 3;       ///< Gauss-Newton iterations per event for kFullGaussNewton
   int extra_relinearizations = 1;///< incremental: segments re-linearised round robin per event besides the changed one
-  double damping = 0.07;         ///< Levenberg damping, relative to the mean diagonal of H (steadies weakly observable directions; more lags, BENCHMARKS.md)
-  double huber_px = 1.0;         ///< Huber threshold of the point-to-line residuals
+  double damping = 0.07;         ///< Levenberg-Marquardt damping, relative to each diagonal element of H (steadies weakly observable directions; more lags, BENCHMARKS.md)
+  double huber_px = 1.0;         ///< Huber threshold of the point-to-line residuals (weights fixed when an event is buffered)
 };
 
 struct SegmentNormalEquations
@@ -38,7 +38,7 @@ struct SegmentNormalEquations
   Matrix6d H = Matrix6d::Zero();
   Vector6d g = Vector6d::Zero();
   Vector6d x_lin = Vector6d::Zero();  ///< accumulated increments at linearisation
-  double sum_sq = 0;                   ///< sum of squared residuals at linearisation
+  double sum_sq = 0;                   ///< weighted sum of squared residuals at linearisation
   int num_points = 0;
   bool active = false;
 };
@@ -46,13 +46,12 @@ struct SegmentNormalEquations
 /// Projection Jacobians of a segment's endpoints with respect to the pose increment.
 void projectWithJacobian(const PinholeK& k, const Eigen::Vector3d& p_cam, Eigen::Vector2d& px, Matrix26d& J);
 
-/// Normal-equation contribution of the points of one buffer to its segment at `pose`. Points
-/// farther than `gate_px` from the projected line are left out (they could not be attributed at
-/// this pose: e.g. the stale buffer of an occluded edge that moved on). Returns false when the
-/// segment is behind the camera, degenerate, or fewer than 2 points are inside the gate.
+/// Normal-equation contribution of the points of one buffer to its segment at `pose`, from the
+/// buffer's weighted moments (O(1), whatever the buffer size; the Huber weights were fixed when
+/// the points were inserted, stale points are removed by the buffer's motion bound). Returns
+/// false when the segment is behind the camera, degenerate, or has fewer than 2 points.
 bool linearizeSegment(const PinholeK& k, const CameraPose& pose, const Eigen::Vector3d& p0_world,
-                      const Eigen::Vector3d& p1_world, const SegmentBuffer& buffer, double huber_px,
-                      SegmentNormalEquations& out, double gate_px = 1e300);
+                      const Eigen::Vector3d& p1_world, const SegmentBuffer& buffer, SegmentNormalEquations& out);
 
 /// Solve the damped normal equations of the active segments at the accumulated increment
 /// `x_now`. Returns false when there is nothing to solve.

@@ -121,67 +121,146 @@ inline int attributeEvent(const Eigen::Vector2d& p, const ProjectedSegment* segs
   return n;
 }
 
-/// The events attributed to one segment: a fixed number of slots. A new event replaces, in
-/// this order: a stored event that no longer lies in the segment's attribution range (farther
-/// than `max_orthogonal_px` from the current projected line or `max_parallel_px` beyond its
-/// ends: such events are stale, e.g. left behind by a moving corner); else the stored event
-/// closest to it along the segment when that one is closer than half the spacing of uniformly
-/// spread events (thesis Fig. 4.6b); else the oldest one.
+/// Weighted raw moments of a buffer's points, kept up to date on every change so that a
+/// segment's normal equations cost O(1) whatever the buffer size (pose_estimator.cpp).
+struct PointMoments
+{
+  double w = 0, x = 0, y = 0, xx = 0, xy = 0, yy = 0;
+
+  void add(const Eigen::Vector2d& p, double weight, double sign = 1.0)
+  {
+    const double sw = sign * weight;
+    w += sw;
+    x += sw * p.x();
+    y += sw * p.y();
+    xx += sw * p.x() * p.x();
+    xy += sw * p.x() * p.y();
+    yy += sw * p.y() * p.y();
+  }
+};
+
+/// The events attributed to one segment: a fixed number of slots, each event with a Huber
+/// weight fixed at its insertion (from its distance to the projected line then).
+/// Before a new event is stored, events over which the projected line has moved farther than
+/// `max_motion_px` since their insertion are dropped (the buffer then spans a bounded image
+/// motion). When the buffer is full, the new event replaces, in this order: a stored event that
+/// no longer lies in the segment's attribution range (farther than `max_orthogonal_px` from the
+/// current projected line or `max_parallel_px` beyond its ends: stale, e.g. left behind by a
+/// moving corner); else the stored event closest to it along the segment when that one is
+/// closer than half the spacing of uniformly spread events (thesis Fig. 4.6b); else the oldest.
 class SegmentBuffer
 {
 public:
-  explicit SegmentBuffer(int capacity = 8) : points_(capacity), stamps_(capacity, 0) {}
+  explicit SegmentBuffer(int capacity = 8)
+    : points_(capacity), offsets_(capacity, 0.0), weights_(capacity, 0.0), stamps_(capacity, 0)
+  {
+  }
 
   int capacity() const { return static_cast<int>(points_.size()); }
   int size() const { return size_; }
   const Eigen::Vector2d& point(int i) const { return points_[i]; }
-  void clear() { size_ = 0; }
+  double weight(int i) const { return weights_[i]; }
+  /// Insertion count of the buffer when point `i` was inserted (its age in insertions: clock() - stamp(i)).
+  uint64_t stamp(int i) const { return stamps_[i]; }
+  uint64_t clock() const { return clock_; }
+  /// Weighted moments of the stored points.
+  const PointMoments& moments() const { return moments_; }
+  void clear()
+  {
+    size_ = 0;
+    moments_ = PointMoments();
+  }
 
   /// Insert `p` given the segment's current projection. Returns the slot written.
   int insert(const Eigen::Vector2d& p, const ProjectedSegment& seg, double max_orthogonal_px = 1e300,
-             double max_parallel_px = 1e300)
+             double max_parallel_px = 1e300, double max_motion_px = 1e300, double huber_px = 1e300)
   {
     ++clock_;
+    const double offset_new = seg.normal.dot(p - seg.a);
+    const double weight_new = std::abs(offset_new) <= huber_px ? 1.0 : huber_px / std::abs(offset_new);
+    if (max_motion_px < 1e299)
+      expire(seg, max_motion_px);
+    int slot = size_;
     if (size_ < capacity())
+      ++size_;
+    else
     {
-      points_[size_] = p;
-      stamps_[size_] = clock_;
-      return size_++;
-    }
-    const double s_new = seg.dir.dot(p - seg.a);
-    int closest = 0, oldest = 0, stale = -1;
-    double best = 1e300, worst_excess = 0;
-    for (int i = 0; i < size_; ++i)
-    {
-      const Eigen::Vector2d v = points_[i] - seg.a;
-      const double s = seg.dir.dot(v);
-      const double excess = std::max(std::abs(seg.normal.dot(v)) - max_orthogonal_px,
-                                     std::max(-s, s - seg.length) - max_parallel_px);
-      if (excess > worst_excess)
+      const double s_new = seg.dir.dot(p - seg.a);
+      int closest = 0, oldest = 0, stale = -1;
+      double best = 1e300, worst_excess = 0;
+      for (int i = 0; i < size_; ++i)
       {
-        worst_excess = excess;
-        stale = i;
+        const Eigen::Vector2d v = points_[i] - seg.a;
+        const double s = seg.dir.dot(v);
+        const double excess = std::max(std::abs(seg.normal.dot(v)) - max_orthogonal_px,
+                                       std::max(-s, s - seg.length) - max_parallel_px);
+        if (excess > worst_excess)
+        {
+          worst_excess = excess;
+          stale = i;
+        }
+        const double ds = std::abs(s - s_new);
+        if (ds < best)
+        {
+          best = ds;
+          closest = i;
+        }
+        if (stamps_[i] < stamps_[oldest])
+          oldest = i;
       }
-      const double ds = std::abs(s - s_new);
-      if (ds < best)
-      {
-        best = ds;
-        closest = i;
-      }
-      if (stamps_[i] < stamps_[oldest])
-        oldest = i;
+      const double threshold = 0.5 * seg.length / capacity();
+      slot = stale >= 0 ? stale : (best < threshold ? closest : oldest);
+      moments_.add(points_[slot], weights_[slot], -1.0);
     }
-    const double threshold = 0.5 * seg.length / capacity();
-    const int slot = stale >= 0 ? stale : (best < threshold ? closest : oldest);
     points_[slot] = p;
+    offsets_[slot] = offset_new;
+    weights_[slot] = weight_new;
     stamps_[slot] = clock_;
+    moments_.add(p, weight_new);
+    if (++changes_since_refresh_ >= 4096)
+      refreshMoments();
     return slot;
   }
 
+  /// Drop the stored events over which the projected line `seg` has moved farther than
+  /// `max_motion_px` (along its normal, at the event) since they were inserted.
+  void expire(const ProjectedSegment& seg, double max_motion_px)
+  {
+    for (int i = 0; i < size_;)
+    {
+      const double offset = seg.normal.dot(points_[i] - seg.a);
+      if (std::abs(offset - offsets_[i]) > max_motion_px)
+      {
+        moments_.add(points_[i], weights_[i], -1.0);
+        ++changes_since_refresh_;
+        --size_;
+        points_[i] = points_[size_];
+        offsets_[i] = offsets_[size_];
+        weights_[i] = weights_[size_];
+        stamps_[i] = stamps_[size_];
+      }
+      else
+        ++i;
+    }
+  }
+
 private:
+  /// Recompute the moments from the points (bounds the rounding drift of the running sums).
+  void refreshMoments()
+  {
+    moments_ = PointMoments();
+    for (int i = 0; i < size_; ++i)
+      moments_.add(points_[i], weights_[i]);
+    changes_since_refresh_ = 0;
+  }
+
   std::vector<Eigen::Vector2d> points_;
+  std::vector<double> offsets_;  ///< signed distance to the projected line when inserted
+  std::vector<double> weights_;  ///< Huber weight fixed at insertion
   std::vector<uint64_t> stamps_;
+  PointMoments moments_;
   int size_ = 0;
+  int changes_since_refresh_ = 0;
   uint64_t clock_ = 0;
 };
 }  // namespace dvs_line_tracker
