@@ -8,7 +8,12 @@ Parameters:
   ~markers_topic       /dvs_line_tracker/markers       (visualization_msgs/MarkerArray)
   ~world_frame, ~camera_frame   world, dvs
   ~groundtruth_file    TUM file (time base = the pose stamps), or
-  ~groundtruth_topic   geometry_msgs/PoseStamped topic (default /dvs/ground_truth/pose)
+  ~groundtruth_topic   geometry_msgs/PoseStamped topic (default /dvs/ground_truth/pose); at least
+                       one message must arrive
+  ~groundtruth_tolerance  s, largest stamp difference of a pose and its ground-truth sample (default 0.002)
+  ~compare_first_seconds  s; > 0: compare only the poses stamped within this long after the first
+                       ground-truth sample (and wait until the ground truth got there); 0 (default):
+                       every pose received so far
   ~min_poses           per-event poses to receive (default 200)
   ~max_position_error  m, median over the compared poses (default 0.05)
   ~max_angle_error     deg, median (default 5)
@@ -63,6 +68,18 @@ class GroundTruth:
             self.t.append(row[0])
             self.rows.append(row)
 
+    def first_time(self):
+        with self.lock:
+            return self.t[0]
+
+    def last_time(self):
+        with self.lock:
+            return self.t[-1]
+
+    def __len__(self):
+        with self.lock:
+            return len(self.t)
+
     def at(self, t, tolerance=0.002):
         with self.lock:
             i = bisect.bisect_left(self.t, t)
@@ -90,7 +107,10 @@ class PipelineTest(unittest.TestCase):
         self.pose_stamps_monotonic = True
         self.markers = []
         self.gt = GroundTruth()
+        self.gt_tolerance = float(rospy.get_param("~groundtruth_tolerance", 0.002))
         gt_file = rospy.get_param("~groundtruth_file", "")
+        self.gt_from_topic = not gt_file
+        self.compare_first = float(rospy.get_param("~compare_first_seconds", 0.0))
         if gt_file:
             for row in load_tum(gt_file):
                 self.gt.add(row)
@@ -128,33 +148,52 @@ class PipelineTest(unittest.TestCase):
             if condition():
                 return
             time.sleep(0.05)
-        self.fail("timed out after %.0f s waiting for %s (events %d, poses %d, marker arrays %d)" % (
-            self.timeout, what, self.events, len(self.poses), len(self.markers)))
+        self.fail("timed out after %.0f s waiting for %s (events %d, ground-truth poses %d, poses %d, "
+                  "marker arrays %d)" % (self.timeout, what, self.events, len(self.gt), len(self.poses),
+                                         len(self.markers)))
 
     def test_pipeline(self):
         self.wait_for("events on the event topic", lambda: self.events > 0)
+        if self.gt_from_topic:
+            self.wait_for("ground truth on its topic", lambda: len(self.gt) > 0)
         self.wait_for("%d per-event poses" % self.min_poses, lambda: len(self.poses) >= self.min_poses)
         self.wait_for("markers", lambda: len(self.markers) > 0)
         self.wait_for("TF %s -> %s" % (self.world, self.camera),
                       lambda: self.tf_buffer.can_transform(self.world, self.camera, rospy.Time(0)))
         self.assertTrue(self.pose_stamps_monotonic, "per-event pose stamps went backwards")
 
-        # Accuracy: every received pose that has a ground-truth sample within 2 ms.
-        self.wait_for("ground truth around the poses", lambda: self.gt.at(self.poses[-1][0]) is not None)
+        # Accuracy: every received pose that has a ground-truth sample within the tolerance (2 ms).
+        compare_until = float("inf")
+        if self.compare_first > 0:
+            compare_until = self.gt.first_time() + self.compare_first
+            self.wait_for("ground truth %.1f s after its first sample" % self.compare_first,
+                          lambda: self.gt.last_time() >= compare_until)
+        else:
+            self.wait_for("ground truth around the poses",
+                          lambda: self.gt.at(self.poses[-1][0], self.gt_tolerance) is not None)
         pos_err, ang_err = [], []
         for row in list(self.poses):
-            g = self.gt.at(row[0])
+            if row[0] > compare_until:
+                break
+            g = self.gt.at(row[0], self.gt_tolerance)
             if g is None:
                 continue
             pos_err.append(math.sqrt(sum((a - b) ** 2 for a, b in zip(row[1:4], g[1:4]))))
             ang_err.append(quat_mul_conj_angle(row[4:8], g[4:8]))
         self.assertGreaterEqual(len(pos_err), self.min_poses // 2,
-                                "only %d of %d poses have ground truth within 2 ms" % (len(pos_err), len(self.poses)))
+                                "only %d of %d poses have ground truth within %.1f ms%s" % (
+                                    len(pos_err), len(self.poses), 1e3 * self.gt_tolerance,
+                                    "" if self.compare_first <= 0 else
+                                    " in the first %.1f s of ground truth" % self.compare_first))
         pos_err.sort()
         ang_err.sort()
         med_pos, med_ang = pos_err[len(pos_err) // 2], ang_err[len(ang_err) // 2]
-        rospy.loginfo("check_pipeline: %d events, %d poses, median error %.2f cm / %.2f deg",
-                      self.events, len(self.poses), 100 * med_pos, med_ang)
+        p90_pos, p90_ang = pos_err[len(pos_err) * 9 // 10], ang_err[len(ang_err) * 9 // 10]
+        rospy.loginfo("check_pipeline: %d events, %d ground-truth poses, %d poses (%d compared; the first pose %.2f s "
+                      "after the first ground truth), error median %.2f cm / %.2f deg, p90 %.2f cm / %.2f deg, "
+                      "max %.2f cm / %.2f deg", self.events, len(self.gt), len(self.poses), len(pos_err),
+                      self.poses[0][0] - self.gt.first_time(), 100 * med_pos, med_ang, 100 * p90_pos, p90_ang,
+                      100 * pos_err[-1], ang_err[-1])
         self.assertLess(med_pos, float(rospy.get_param("~max_position_error", 0.05)),
                         "median position error %.3f m" % med_pos)
         self.assertLess(med_ang, float(rospy.get_param("~max_angle_error", 5.0)),
