@@ -6,7 +6,9 @@
 #include <dvs_line_tracker/camera_pose.h>
 #include <dvs_screen_sim/dataset.h>
 #include <dvs_screen_sim/sim_config.h>
-#include <geometry_msgs/PoseArray.h>
+#include <nav_msgs/Path.h>
+
+#include <set>
 #include <geometry_msgs/PoseStamped.h>
 #include <ros/ros.h>
 #include <rosbag/bag.h>
@@ -29,7 +31,9 @@ struct Received
 {
   std::mutex m;
   std::vector<geometry_msgs::PoseStamped> poses;
-  size_t batched_poses = 0, batched_msgs = 0;
+  size_t batched_poses = 0, batched_msgs = 0, batch_stamp_mismatches = 0;
+  std::vector<ros::Time> batched_stamps;
+  std::set<std::string> diagnostic_names;
   std::vector<std::string> states;
   std::vector<diagnostic_msgs::DiagnosticStatus> diagnostics;
 };
@@ -55,10 +59,14 @@ TEST(TrackerRos, TracksASimulatedBag)
     std::lock_guard<std::mutex> l(rx.m);
     rx.poses.push_back(*m);
   });
-  auto poses_sub = nh.subscribe<geometry_msgs::PoseArray>("/dvs_line_tracker/poses", 10000, [&](const auto& m) {
+  auto poses_sub = nh.subscribe<nav_msgs::Path>("/dvs_line_tracker/poses", 10000, [&](const auto& m) {
     std::lock_guard<std::mutex> l(rx.m);
     rx.batched_poses += m->poses.size();
     ++rx.batched_msgs;
+    for (const auto& p : m->poses)
+      rx.batched_stamps.push_back(p.header.stamp);
+    if (!m->poses.empty() && m->header.stamp != m->poses.back().header.stamp)
+      ++rx.batch_stamp_mismatches;
   });
   auto state_sub = nh.subscribe<std_msgs::String>("/dvs_line_tracker/state", 100, [&](const auto& m) {
     std::lock_guard<std::mutex> l(rx.m);
@@ -68,7 +76,10 @@ TEST(TrackerRos, TracksASimulatedBag)
     std::lock_guard<std::mutex> l(rx.m);
     for (const auto& s : m->status)
       if (s.name.find("tracker") != std::string::npos)
+      {
         rx.diagnostics.push_back(s);
+        rx.diagnostic_names.insert(s.name);
+      }
   });
   tf2_ros::Buffer tf_buffer;
   tf2_ros::TransformListener tf_listener(tf_buffer);
@@ -114,6 +125,14 @@ TEST(TrackerRos, TracksASimulatedBag)
   ASSERT_GT(rx.poses.size(), 10000u);
   EXPECT_GE(rx.batched_poses, rx.poses.size());
   EXPECT_GT(rx.batched_msgs, 100u);
+  // Every batched pose carries its event's stamp: non-decreasing, and the per-event topic's
+  // stamps are among them.
+  ASSERT_EQ(rx.batched_stamps.size(), rx.batched_poses);
+  for (size_t i = 1; i < rx.batched_stamps.size(); ++i)
+    ASSERT_GE(rx.batched_stamps[i], rx.batched_stamps[i - 1]);
+  EXPECT_EQ(rx.batch_stamp_mismatches, 0u);
+  EXPECT_TRUE(std::binary_search(rx.batched_stamps.begin(), rx.batched_stamps.end(), rx.poses[rx.poses.size() / 2].header.stamp));
+  EXPECT_GT(rx.batched_stamps.back() - rx.batched_stamps.front(), ros::Duration(0.5));
   for (size_t i = 1; i < rx.poses.size(); ++i)
     ASSERT_GE(rx.poses[i].header.stamp, rx.poses[i - 1].header.stamp);
   EXPECT_EQ(rx.poses.front().header.frame_id, "world");
@@ -141,6 +160,9 @@ TEST(TrackerRos, TracksASimulatedBag)
   ASSERT_FALSE(rx.diagnostics.empty());
   EXPECT_EQ(rx.diagnostics.back().message, "TRACKING");
   EXPECT_EQ(rx.diagnostics.back().level, diagnostic_msgs::DiagnosticStatus::OK);
+  // Named after the tracker, not after the process (a nodelet manager).
+  for (const auto& name : rx.diagnostic_names)
+    EXPECT_EQ(name.rfind("dvs_line_tracker: ", 0), 0u) << name;
 }
 
 int main(int argc, char** argv)

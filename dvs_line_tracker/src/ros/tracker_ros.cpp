@@ -4,7 +4,7 @@
 
 #include <cv_bridge/cv_bridge.h>
 #include <dvs_driver/event_bag_io.h>
-#include <geometry_msgs/PoseArray.h>
+#include <nav_msgs/Path.h>
 #include <geometry_msgs/PoseStamped.h>
 #include <geometry_msgs/TransformStamped.h>
 #include <opencv2/imgproc.hpp>
@@ -33,7 +33,9 @@ geometry_msgs::Pose toPoseMsg(const CameraPose& pose)
 }
 }  // namespace
 
-TrackerRos::TrackerRos(ros::NodeHandle nh, ros::NodeHandle pnh) : nh_(nh), pnh_(pnh), diagnostics_(nh, pnh)
+// Diagnostics under the tracker's own name (a nodelet's node name is its manager's).
+TrackerRos::TrackerRos(ros::NodeHandle nh, ros::NodeHandle pnh)
+  : nh_(nh), pnh_(pnh), diagnostics_(nh, pnh, pnh.getNamespace())
 {
   // Tracker parameters: every one has a default; ROS overrides, then validation.
   forEachParam(params_, [&](const ParamRef& r) {
@@ -67,7 +69,7 @@ TrackerRos::TrackerRos(ros::NodeHandle nh, ros::NodeHandle pnh) : nh_(nh), pnh_(
   map_ = map_file.empty() ? defaultSquareMap() : loadLineMap(map_file);  // throws naming the file
 
   pose_pub_ = pnh_.advertise<geometry_msgs::PoseStamped>("pose", 10000);
-  poses_pub_ = pnh_.advertise<geometry_msgs::PoseArray>("poses", 1000);
+  poses_pub_ = pnh_.advertise<nav_msgs::Path>("poses", 1000);
   markers_pub_ = pnh_.advertise<visualization_msgs::MarkerArray>("markers", 1, true);
   state_pub_ = pnh_.advertise<std_msgs::String>("state", 10, true);
   image_transport::ImageTransport it(pnh_);
@@ -128,10 +130,10 @@ void TrackerRos::onEvents(const dvs_msgs::EventArrayConstPtr& msg)
   }
   const bool per_event = publish_per_event_ && pose_pub_.getNumSubscribers() > 0;
   const bool batched = poses_pub_.getNumSubscribers() > 0;
-  geometry_msgs::PoseArrayPtr poses;
+  nav_msgs::PathPtr poses;
   if (batched)
   {
-    poses = boost::make_shared<geometry_msgs::PoseArray>();
+    poses = boost::make_shared<nav_msgs::Path>();
     poses->header.frame_id = world_frame_;
     poses->poses.reserve(msg->events.size());
   }
@@ -158,12 +160,18 @@ void TrackerRos::onEvents(const dvs_msgs::EventArrayConstPtr& msg)
       pose_pub_.publish(p);
     }
     if (batched)
-      poses->poses.push_back(toPoseMsg(tracker_->pose()));
+    {
+      poses->poses.emplace_back();
+      geometry_msgs::PoseStamped& p = poses->poses.back();
+      p.header.stamp = m.ts;
+      p.header.frame_id = world_frame_;
+      p.pose = toPoseMsg(tracker_->pose());
+    }
   }
   events_since_diag_ += msg->events.size();
   if (batched && !poses->poses.empty())
   {
-    poses->header.stamp = msg->events.back().ts;
+    poses->header.stamp = poses->poses.back().header.stamp;
     poses_pub_.publish(poses);
   }
   publishPacket(*msg, last_update_ns, any_update);
