@@ -3,8 +3,8 @@
 
 usage: bag_to_tum.py BAG TOPIC OUT.tum
 
-TOPIC may carry geometry_msgs/PoseStamped, nav_msgs/Path (every pose with its own stamp),
-geometry_msgs/PoseArray (the tracker's per-packet batch: its last pose at its stamp) or geometry_msgs/TransformStamped. Prints one
+TOPIC may carry geometry_msgs/PoseStamped, nav_msgs/Path (every pose with its own stamp: the
+tracker's per-packet batches), geometry_msgs/PoseArray (its last pose at its stamp) or geometry_msgs/TransformStamped. Prints one
 JSON line {"poses": N, "out": OUT}. Exit code 1 (message naming the problem) when the bag cannot
 be read or the topic is missing or of another type."""
 import json

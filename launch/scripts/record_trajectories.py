@@ -11,10 +11,10 @@ Writes into ~output_dir:
                     tracker's last diagnostics (key: value)
 
 ~estimate_topic and ~groundtruth_topic may carry geometry_msgs/PoseStamped, nav_msgs/Path
-(every pose with its own stamp), geometry_msgs/PoseArray (the tracker's per-packet batch of
-per-event poses with one stamp, the packet's last event: its last pose is recorded at that
-stamp, and all its poses are counted) or geometry_msgs/TransformStamped; the type is read from
-the connection. Events on ~events_topic are counted from the raw message bytes (no per-event
+(every pose with its own stamp: the tracker's per-packet batch of per-event poses, read straight
+from the message bytes), geometry_msgs/PoseArray (one stamp for all: its last pose is recorded at
+that stamp, and all its poses are counted) or geometry_msgs/TransformStamped; the type is read
+from the connection. Events on ~events_topic are counted from the raw message bytes (no per-event
 deserialisation in Python).
 
 The node ends (exit code 0) once ground truth has arrived and then nothing new came on either
@@ -88,6 +88,31 @@ def posearray_last_pose(raw):
     return secs + 1e-9 * nsecs, n, last
 
 
+def path_header(raw):
+    """(header stamp in s, number of poses) of a serialised nav_msgs/Path."""
+    secs, nsecs, frame_len = struct.unpack_from("<III", raw, 4)
+    (n,) = struct.unpack_from("<I", raw, 16 + frame_len)
+    return secs + 1e-9 * nsecs, n
+
+
+def path_poses(raw):
+    """[(t, x, y, z, qx, qy, qz, qw)] of a serialised nav_msgs/Path (header, uint32 count, count x
+    PoseStamped = header (seq, stamp, frame_id) + 7 float64), without deserialising messages."""
+    (frame_len,) = struct.unpack_from("<I", raw, 12)
+    off = 16 + frame_len
+    (n,) = struct.unpack_from("<I", raw, off)
+    off += 4
+    rows = []
+    unpack_stamp, unpack_pose = struct.Struct("<III").unpack_from, struct.Struct("<7d").unpack_from
+    for _ in range(n):
+        _, secs, nsecs = unpack_stamp(raw, off)
+        (frame_len,) = struct.unpack_from("<I", raw, off + 12)
+        off += 16 + frame_len
+        rows.append((secs + 1e-9 * nsecs,) + unpack_pose(raw, off))
+        off += 56
+    return rows
+
+
 def peak_rate(packets, window):
     """Largest events/s over any `window` seconds of packet stamps [(t, n)]."""
     packets = sorted(packets)
@@ -122,6 +147,7 @@ class Recorder:
         self.lock = threading.Lock()
         self.est, self.gt = [], []
         self.pose_counts = {id(self.est): 0, id(self.gt): 0}
+        self.raw_paths = {}  # id(sink) -> serialised nav_msgs/Path messages, read in write()
         self.events = 0
         self.packets = 0
         self.event_packets = []
@@ -144,6 +170,19 @@ class Recorder:
 
     def on_pose(self, raw, sink):
         kind = raw._connection_header["type"]
+        if kind == "nav_msgs/Path":
+            # The tracker's batches carry up to thousands of per-event poses: keep the bytes and
+            # read the poses when writing (the callback stays short, so the latency measured here
+            # is not that of this script's own backlog). The header stamp is the last pose's.
+            received = rospy.get_rostime().to_sec()
+            stamp, n = path_header(raw._buff)
+            with self.lock:
+                self.raw_paths.setdefault(id(sink), []).append(raw._buff)
+                if sink is self.est and n:
+                    self.latencies.append(received - stamp)
+                self.pose_counts[id(sink)] += n
+                self.last_new = time.monotonic()
+            return
         if kind == "geometry_msgs/PoseArray":
             # The tracker's batches are large (up to thousands of poses): read the stamp, the count
             # and the last pose straight from the bytes instead of deserialising every pose.
@@ -198,10 +237,14 @@ class Recorder:
 
     def finished(self):
         with self.lock:
-            return bool(self.gt) and time.monotonic() - self.last_new > self.idle_timeout
+            return (bool(self.gt) or bool(self.raw_paths.get(id(self.gt)))) and \
+                time.monotonic() - self.last_new > self.idle_timeout
 
     def write(self, reason):
         with self.lock:
+            for sink in (self.est, self.gt):
+                for raw in self.raw_paths.pop(id(sink), []):
+                    sink.extend(path_poses(raw))
             # Stable sort by time only: poses with equal stamps keep their order.
             est = sorted(self.est, key=lambda r: r[0])
             gt = sorted(self.gt, key=lambda r: r[0])
