@@ -262,9 +262,14 @@ void EventSimulator::step(double t_next)
   renderer_.appendEdgePixels(band_now_, marks_, mark_);
   if (intensity_changed || renderer_.imagesChanged())
   {
+    // A monitor's content update is not instantaneous: the luminance moves linearly to the new
+    // content over its response time from the update (t_next), so the events of the change are
+    // timed along that ramp (they wait in pending_ until simulated time passes them).
+    const double ramp = renderer_.contentTransition();
+    const double r0 = ramp > 0 ? t_next : t0, r1 = ramp > 0 ? t_next + ramp : t_next;
     const int32_t n = width_ * height_;
     for (int32_t idx = 0; idx < n; ++idx)
-      processPixel(idx, t0, t_next);
+      processPixel(idx, r0, r1);
   }
   else
   {

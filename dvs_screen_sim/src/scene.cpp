@@ -178,6 +178,8 @@ void Scene::finalize()
       throw SceneError(where + ": size must be positive and top_left finite");
     if (!(im.update_period >= 0))
       throw SceneError(where + ": update_period must be >= 0");
+    if (!(im.response_time >= 0) || (im.update_period > 0 && im.response_time > im.update_period))
+      throw SceneError(where + ": response_time must be in [0, update_period]");
     if (im.update_period > 0 && !im.update)
       throw SceneError(where + ": update_period set without an update callback");
     if (!(im.gain_value >= 0))

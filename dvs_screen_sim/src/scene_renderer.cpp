@@ -168,6 +168,7 @@ void SceneRenderer::setState(const Pose& T_world_cam, double t)
   // content is refreshed; otherwise their pixels keep their intensities.
   images_changed_ = !has_state_ || T_world_cam.p != T_world_cam_.p || T_world_cam.q.coeffs() != T_world_cam_.q.coeffs();
   has_state_ = true;
+  content_transition_ = 0;
   T_world_cam_ = T_world_cam;
   time_ = t;
   background_ = scene_.background_reflectance;
@@ -215,6 +216,7 @@ void SceneRenderer::setState(const Pose& T_world_cam, double t)
           throw SceneError("scene image '" + im.name + "': update changed the number of texels");
         pi.frame = frame;
         images_changed_ = true;
+        content_transition_ = std::max(content_transition_, im.response_time);
       }
     }
     const Eigen::Vector2d tl = im.top_left;

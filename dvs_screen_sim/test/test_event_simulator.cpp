@@ -368,3 +368,75 @@ TEST(EventSimulator, RefreshingScreenImageFiresAtFrameChangesOnly)
     EXPECT_NEAR(frames, std::round(frames), 1e-5) << "event at " << e.t_ns << " ns is not at a refresh";
   }
 }
+
+// A monitor with a response time: a content change reaches the new luminance linearly over
+// response_time, so each pixel's events of a change are spread along that ramp in the order of
+// their levels (log-spaced levels on a linear ramp: known times), and a refractory period that
+// eats all but one event of an instantaneous step keeps them.
+TEST(EventSimulator, MonitorResponseTimeSpreadsAFrameChangeAlongALinearRamp)
+{
+  const auto cam = pinhole(16, 16, 20);
+  auto makeScene = [](double response) {
+    Scene s;
+    s.background_reflectance = 0.02;
+    SceneImage im;
+    im.width = 2;
+    im.height = 2;
+    im.texels.assign(4, 0.02f);
+    im.top_left = Eigen::Vector2d(-1.0, 1.0);
+    im.size = Eigen::Vector2d(2.0, 2.0);  // covers the whole view
+    im.update_period = 1.0 / 60.0;
+    im.response_time = response;
+    im.update = [](int64_t frame, std::vector<float>& texels) {
+      std::fill(texels.begin(), texels.end(), frame % 2 ? 0.9f : 0.02f);  // black / white every refresh
+    };
+    s.images.push_back(im);
+    s.finalize();
+    return s;
+  };
+  const StaticTrajectory still(facingWall(0, 1));
+  const double period = 1.0 / 60.0, response = 0.005;
+  EventModelConfig m = cleanModel();
+  const EventVector step = simulate(cam, makeScene(0.0), still, 1.5 * period, m);
+  const EventVector ramp = simulate(cam, makeScene(response), still, 1.5 * period, m);
+  // Same number of events (the same levels are crossed), per pixel at the known ramp times.
+  ASSERT_EQ(step.size(), ramp.size());
+  ASSERT_GT(ramp.size(), 16u * 16u * 10u);
+  const double i0 = 0.02 + m.log_eps, i1 = 0.9 + m.log_eps;
+  std::map<int, std::vector<int64_t>> on_times;
+  for (const auto& e : ramp)
+  {
+    ASSERT_TRUE(e.polarity);  // the one change is black -> white (at 1/60 s)
+    on_times[e.y * 16 + e.x].push_back(e.t_ns);
+  }
+  ASSERT_EQ(on_times.size(), 256u);
+  for (const auto& [pixel, times] : on_times)
+  {
+    ASSERT_GE(times.size(), 10u);
+    for (size_t k = 0; k < times.size(); ++k)
+    {
+      const double level = i0 * std::exp(m.threshold_on * static_cast<double>(k + 1));  // ON level k + 1
+      const double expected = period + response * (level - i0) / (i1 - i0);
+      EXPECT_NEAR(times[k] * 1e-9, expected, 2e-7) << "pixel " << pixel << " event " << k;
+    }
+  }
+  // A refractory period: an instantaneous step keeps one event per pixel, the ramp nearly all.
+  m.noise.refractory_period = 50e-6;
+  EXPECT_EQ(simulate(cam, makeScene(0.0), still, 1.5 * period, m).size(), 256u);
+  EXPECT_GT(simulate(cam, makeScene(response), still, 1.5 * period, m).size(), ramp.size() * 8 / 10);
+}
+
+TEST(Scene, ResponseTimeLongerThanTheRefreshIsRejected)
+{
+  Scene s;
+  SceneImage im;
+  im.width = im.height = 1;
+  im.texels = {0.5f};
+  im.update_period = 0.01;
+  im.update = [](int64_t, std::vector<float>&) {};
+  im.response_time = 0.02;
+  s.images.push_back(im);
+  EXPECT_THROW(s.finalize(), SceneError);
+  s.images[0].response_time = 0.01;
+  EXPECT_NO_THROW(s.finalize());
+}

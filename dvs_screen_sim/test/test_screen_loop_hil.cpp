@@ -228,8 +228,18 @@ TEST(ScreenInTheLoop, PlaybackEventsAreInTrajectoryTimeOnTheProjectedEdges)
   lp.duration = 0.3;
   LinearTrajectory trajectory(lp);
   const double duration = 0.3;
-  const dvs_driver::EventVector events = loop.playTrajectory(scene, trajectory, duration, TimeScale{4.0});
+  PoseTrajectory shown;
+  const dvs_driver::EventVector events = loop.playTrajectory(scene, trajectory, duration, TimeScale{4.0}, &shown);
   ASSERT_GT(events.size(), 2000u);
+  // One displayed pose per refresh, each the trajectory's pose at the centre of its display
+  // interval (refresh period / time scale of trajectory time).
+  const double hold = ec.refresh_period / 4.0;
+  ASSERT_NEAR(static_cast<double>(shown.size()), duration / hold, 1.5);
+  for (size_t i = 0; i < shown.size(); ++i)
+  {
+    ASSERT_NEAR(shown[i].t, (static_cast<double>(i) + 0.5) * hold, 1e-9) << "frame " << i;
+    EXPECT_LT((shown[i].T_world_cam.p - trajectory.poseAt(shown[i].t).p).norm(), 1e-12);
+  }
   size_t near = 0;
   for (const auto& e : events)
   {

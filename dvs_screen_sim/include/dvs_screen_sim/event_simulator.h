@@ -12,7 +12,9 @@
 //   Sampling is adaptive: the next sample is taken when the visible edges have moved at most
 //   `max_pixel_motion` px (bounded by [min_dt, max_dt]; square-wave flicker edges are sampled
 //   exactly). Only pixels in the band an edge sweeps are re-evaluated (the scene is piecewise
-//   constant), unless an intensity modulation changes, which re-evaluates every pixel.
+//   constant), unless an intensity modulation changes, which re-evaluates every pixel. A
+//   refreshing image with a response_time (a monitor) changes linearly over that time: the
+//   events of a refresh are timed along the ramp (exact for a camera still relative to it).
 // Noise (each switchable, all driven by the seed, so the output is bit-for-bit reproducible):
 //   fixed per-pixel threshold mismatch (Gaussian sigma, thresholds clamped >= min_threshold),
 //   refractory period (events inside it are dropped, the reference still moves), latency with

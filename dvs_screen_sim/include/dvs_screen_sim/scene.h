@@ -76,6 +76,11 @@ struct SceneImage
   IntensityModulation gain;                  ///< multiplies the texels; Constant uses `gain_value`
   double gain_value = 1.0;
   double update_period = 0.0;                ///< [s], 0: the content never changes
+  /// [s] a monitor's response time: after each content update the luminance moves linearly from
+  /// the old to the new texels over this time (in [0, update_period]; 0: instantaneous). The
+  /// simulator times the events of an update along that ramp (exact while the camera does not
+  /// move relative to the image during the transition).
+  double response_time = 0.0;
   std::function<void(int64_t frame_index, std::vector<float>& texels)> update;
 
   double gainAt(double t) const { return gain.valueAt(t, gain_value); }

@@ -57,6 +57,9 @@ public:
   /// (the camera moved, an image's gain changed or its content was refreshed). A still camera
   /// filming a monitor then re-evaluates every pixel only at the refreshes.
   bool imagesChanged() const { return hasImages() && images_changed_; }
+  /// The longest response_time of the images whose content was updated by the last setState()
+  /// (0 if none): the change fades in over that time.
+  double contentTransition() const { return content_transition_; }
   const dvs_calibration::CameraModel& camera() const { return camera_; }
   const Scene& scene() const { return scene_; }
   int width() const { return width_; }
@@ -104,6 +107,7 @@ private:
   Pose T_world_cam_;
   bool has_state_ = false;
   bool images_changed_ = true;
+  double content_transition_ = 0;
   double time_ = 0;
   double background_ = 0;
   std::vector<ProjectedPolygon> projected_;

@@ -7,7 +7,8 @@
 //    (retries up to ~alignment_attempts, refuses residuals above ~max_alignment_residual),
 // 3. warns when the apparent motion exceeds one screen pixel per refresh (thesis 3.4.2),
 // 4. plays the scenario's trajectory (slowed by ~time_scale), publishing the ground truth the
-//    screen shows, stamped in the DVS's time base (dvs/ground_truth/pose, /tf), and optionally
+//    screen shows, stamped in the DVS's time base at the centre of each frame's display interval
+//    (dvs/ground_truth/pose, /tf), and optionally
 //    records a bag with the events and ground truth, time stamps rescaled to trajectory speed.
 #include <dvs_driver/event_bag_io.h>
 #include <dvs_msgs/EventArray.h>
@@ -256,6 +257,7 @@ int main(int argc, char** argv)
       if (!sink.clock_.valid())
         ROS_WARN("screen_loop: no events received yet: ground truth stamped with the host clock");
     }
+    const auto hold_ns = static_cast<int64_t>(std::llround((period > 0 ? period : 1.0 / 60) * 1e9));
     const int64_t start_host = hostNowNs();
     int64_t start_dvs = 0;
     {
@@ -277,10 +279,14 @@ int main(int argc, char** argv)
         std::lock_guard<std::mutex> lock(sink.mutex_);
         shown_dvs = sink.clock_.toDvsNs(hostNowNs());
       }
+      // The frame stays on the screen for one refresh from shown_dvs. The DVS's events of a frame
+      // switch fill the band swept between two consecutive displayed poses, so each displayed
+      // pose is stamped at the centre of its display interval (as emulate_screen_loop does).
+      shown_dvs += hold_ns / 2;
       const StampedPose live{shown_dvs * 1e-9, pose};
       pose_pub.publish(toPoseStamped(live, world_frame));
       tf.sendTransform(toTransform(live, world_frame, gt_frame));
-      // Recorded in the rescaled time base of the recorded events: the moment the frame was shown.
+      // Recorded in the rescaled time base of the recorded events.
       groundtruth.push_back({(start_dvs + time_scale.rescaleStampNs(shown_dvs - start_dvs)) * 1e-9, pose});
     }
 

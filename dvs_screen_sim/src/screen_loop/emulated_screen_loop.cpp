@@ -31,6 +31,7 @@ struct EmulatedScreenLoop::Program
   int64_t first_frame = 0;
   double refresh_period = 1.0 / 60;
   TimeScale time_scale;
+  PoseTrajectory* shown = nullptr;  ///< receives the displayed poses when set
 
   void draw(int64_t frame, GlScreenRenderer& gl)
   {
@@ -54,10 +55,18 @@ struct EmulatedScreenLoop::Program
         return;
       case Mode::Scene:
       {
-        const double t_traj = std::max(0.0, time_scale.trajectoryTime((frame - first_frame) * refresh_period));
+        // Sample and hold: frame f stays on screen for one refresh, trajectory time
+        // [(f - first) dt, (f - first + 1) dt) with dt = refresh_period / time scale. It shows the
+        // pose at the centre of that interval: the DVS's events of a frame switch fill the band
+        // swept between two consecutive displayed poses, so they are centred on the switch time.
+        const double t_traj =
+            std::max(0.0, time_scale.trajectoryTime((static_cast<double>(frame - first_frame) + 0.5) * refresh_period));
+        const Pose pose = trajectory->poseAt(t_traj);
         gl.clear(scene->background_reflectance);
-        gl.setMatrices(pipeline.correctedProjection(), viewMatrix(trajectory->poseAt(t_traj)));
+        gl.setMatrices(pipeline.correctedProjection(), viewMatrix(pose));
         gl.drawScenePolygons(*scene, t_traj);
+        if (shown && frame >= first_frame)
+          shown->push_back({t_traj, pose});
         return;
       }
     }
@@ -160,7 +169,8 @@ dvs_driver::EventVector EmulatedScreenLoop::showLines(const Pose& T_world_virtua
 }
 
 dvs_driver::EventVector EmulatedScreenLoop::playTrajectory(const Scene& scene, const Trajectory& trajectory,
-                                                           double duration, const TimeScale& time_scale)
+                                                           double duration, const TimeScale& time_scale,
+                                                           PoseTrajectory* shown)
 {
   time_scale.validate();
   // One refresh showing the start pose, so the playback starts from a settled screen.
@@ -168,6 +178,9 @@ dvs_driver::EventVector EmulatedScreenLoop::playTrajectory(const Scene& scene, c
   program_->scene = &scene;
   program_->trajectory = &trajectory;
   program_->time_scale = time_scale;
+  program_->shown = shown;
+  if (shown)
+    shown->clear();
   program_->first_frame = std::numeric_limits<int64_t>::max() / 4;  // start pose until armed
   const int64_t f_settle = alignToRefresh();
   program_->first_frame = f_settle + 1;
@@ -188,6 +201,7 @@ dvs_driver::EventVector EmulatedScreenLoop::playTrajectory(const Scene& scene, c
     out.push_back(e);
   }
   program_->mode = Program::Mode::Blank;
+  program_->shown = nullptr;
   return out;
 }
 }  // namespace screen_loop

@@ -115,8 +115,10 @@ std::string motionWarning(const MotionCheck& c)
   std::ostringstream s;
   s.precision(3);
   s << "apparent motion reaches " << c.max_px_per_refresh << " screen pixels per refresh (at trajectory time "
-    << c.worst_time << " s): the screen will blur it (thesis 3.4.2); use a time scale of at least "
-    << c.suggested_time_scale;
+    << c.worst_time << " s): the screen will blur it (thesis 3.4.2); a time scale of "
+    << c.suggested_time_scale
+    << " avoids that, but slowing the playback multiplies the DVS's noise per trajectory second by the time scale: "
+       "blur of up to ~1 DVS pixel per refresh is acceptable (thesis 6, and dvs_screen_sim's BENCHMARKS.md)";
   return s.str();
 }
 }  // namespace screen_loop

@@ -22,6 +22,7 @@ SceneImage makeVirtualMonitor(GlScreenRenderer& gl, const MonitorGeometry& g, do
   im.size = Eigen::Vector2d(im.width * g.pixel_pitch, im.height * g.pixel_pitch);
   im.texels.assign(static_cast<size_t>(im.width) * im.height, static_cast<float>(g.black_level));
   im.update_period = refresh_period;
+  im.response_time = g.response_time;
   GlScreenRenderer* renderer = &gl;
   const float black = static_cast<float>(g.black_level), span = static_cast<float>(g.white_level - g.black_level);
   im.update = [renderer, draw_frame, black, span](int64_t frame, std::vector<float>& texels) {

@@ -4,6 +4,11 @@
 // residual, the mean line offset, the mean per-event distance and the pure-software floor of
 // the latter, and the medians over all runs.
 //   benchmark_screen_loop [--runs N]
+// With --tracker (see screen_loop_tracker_comparison.cpp): the tracker on the emulated
+// screen-in-the-loop flight vs its pure-software run.
+//   benchmark_screen_loop --tracker [--seeds N] [--time-scales S,..] [--noise P,..] [--response-ms MS]
+#include "screen_loop_tracker_comparison.h"
+
 #include <dvs_screen_sim/screen_loop/emulated_screen_loop.h>
 #include <dvs_screen_sim/screen_loop/line_grid_check.h>
 
@@ -30,6 +35,8 @@ double median(std::vector<double> v)
 
 int main(int argc, char** argv)
 {
+  if (argc > 1 && std::strcmp(argv[1], "--tracker") == 0)
+    return runScreenLoopTrackerComparison(argc - 1, argv + 1);
   int runs = 5;
   for (int i = 1; i < argc; ++i)
   {
@@ -37,7 +44,8 @@ int main(int argc, char** argv)
       runs = std::atoi(argv[++i]);
     else
     {
-      std::fprintf(stderr, "usage: benchmark_screen_loop [--runs N]\n");
+      std::fprintf(stderr, "usage: benchmark_screen_loop [--runs N]\n"
+                           "       benchmark_screen_loop --tracker --help\n");
       return 2;
     }
   }

@@ -3,7 +3,8 @@
 // grid, the line-grid check, then the scenario's trajectory played on the screen (slowed by the
 // time scale) and recorded as a dataset folder in the trajectory's time base.
 //   emulate_screen_loop --scenario NAME --out DIR [--config FILE.yaml] [--seed N] [--duration S]
-//       [--time-scale F] [--refresh-hz HZ] [--dvs-ypr Y,P,R] [--dvs-distance M] [--window WxH]
+//       [--time-scale F] [--refresh-hz HZ] [--response-ms MS] [--monitor-levels B,W] [--dvs-ypr Y,P,R]
+//       [--dvs-distance M] [--window WxH]
 // Without $DISPLAY it re-runs itself under xvfb-run.
 #include <dvs_screen_sim/dataset.h>
 #include <dvs_screen_sim/screen_loop/emulated_screen_loop.h>
@@ -27,14 +28,20 @@ namespace
 void usage(std::ostream& out)
 {
   out << "usage: emulate_screen_loop --scenario NAME --out DIR [--config FILE.yaml] [--seed N] [--duration S]\n"
-         "         [--time-scale F] [--refresh-hz HZ] [--dvs-ypr Y,P,R] [--dvs-distance M] [--window WxH]\n"
+         "         [--time-scale F] [--refresh-hz HZ] [--response-ms MS] [--monitor-levels B,W] [--dvs-ypr Y,P,R]\n"
+         "         [--dvs-distance M] [--window WxH]\n"
          "  NAME, --config, --seed, --duration: as for `simulate` (scene, trajectory, camera, event model)\n"
          "  --time-scale F   playback F times slower than the trajectory (default 10)\n"
          "  --refresh-hz HZ  the virtual monitor's refresh rate (default 60)\n"
+         "  --response-ms MS the monitor's pixel response time: a new frame fades in linearly over it\n"
+         "                   (default 5, a common LCD's grey-to-grey time; 0: an ideal instantaneous screen)\n"
+         "  --monitor-levels B,W  intensity of a black and a white screen pixel (default 0.02,0.9)\n"
          "  --dvs-ypr        the DVS's misalignment: yaw,pitch,roll [deg] (default 15,-12,4)\n"
          "  --dvs-distance   DVS to screen [m] (default 0.22)\n"
          "  --window WxH     OpenGL window = monitor pixels (default 1024x768, 0.6 mm pitch)\n"
-         "  DIR receives the dataset files of `simulate` (events.txt in trajectory time) and alignment.txt\n";
+         "  DIR receives the dataset files of `simulate` (events.txt in trajectory time) and alignment.txt;\n"
+         "  groundtruth.txt holds the poses the screen showed, one per refresh, each stamped at the centre of\n"
+         "  its display interval\n";
 }
 
 bool parseDouble(const std::string& s, double& v)
@@ -60,7 +67,8 @@ int main(int argc, char** argv)
   std::string scenario, out_dir, config_path;
   std::optional<uint64_t> seed;
   std::optional<double> duration;
-  double time_scale = 10.0, refresh_hz = 60.0, distance = 0.22;
+  double time_scale = 10.0, refresh_hz = 60.0, distance = 0.22, response_ms = 5.0;
+  double black_level = 0.02, white_level = 0.9;
   Eigen::Vector3d ypr(15, -12, 4);
   int win_w = 1024, win_h = 768;
   for (int i = 1; i < argc; ++i)
@@ -97,6 +105,16 @@ int main(int argc, char** argv)
       ok = parseDouble(value(), time_scale) && time_scale > 0;
     else if (arg == "--refresh-hz")
       ok = parseDouble(value(), refresh_hz) && refresh_hz > 0;
+    else if (arg == "--response-ms")
+      ok = parseDouble(value(), response_ms) && response_ms >= 0;
+    else if (arg == "--monitor-levels")
+    {
+      const std::string v = value();
+      char* end = nullptr;
+      black_level = std::strtod(v.c_str(), &end);
+      ok = end && *end == ',' && parseDouble(end + 1, white_level) && black_level >= 0 && white_level > black_level &&
+           white_level <= 1;
+    }
     else if (arg == "--dvs-distance")
       ok = parseDouble(value(), distance) && distance > 0;
     else if (arg == "--dvs-ypr")
@@ -143,8 +161,11 @@ int main(int argc, char** argv)
     ec.T_wall_dvs = EmulationConfig::dvsPoseAimedAt(ypr, Eigen::Vector2d::Zero(), distance);
     ec.monitor.pixel_pitch = 0.0006 * 1024.0 / win_w;
     ec.monitor.top_left = {-0.5 * win_w * ec.monitor.pixel_pitch, 0.5 * win_h * ec.monitor.pixel_pitch};
-    ec.monitor.black_level = 0.02;
-    ec.monitor.white_level = 0.9;
+    ec.monitor.black_level = black_level;
+    ec.monitor.white_level = white_level;
+    ec.monitor.response_time = response_ms * 1e-3;
+    if (ec.monitor.response_time > 1.0 / refresh_hz)
+      throw std::invalid_argument("--response-ms must not exceed the refresh period");
     ec.refresh_period = 1.0 / refresh_hz;
     ec.pattern.cols = 7;
     ec.pattern.rows = 5;
@@ -182,12 +203,13 @@ int main(int argc, char** argv)
                 time_scale);
 
     const std::clock_t c0 = std::clock();
-    dvs_driver::EventVector events = loop.playTrajectory(config.scene, *trajectory, config.duration, TimeScale{time_scale});
+    PoseTrajectory gt;  // the poses the screen showed, each stamped at the centre of its display interval
+    dvs_driver::EventVector events =
+        loop.playTrajectory(config.scene, *trajectory, config.duration, TimeScale{time_scale}, &gt);
     const double cpu = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
     for (auto& e : events)
       e.t_ns += config.time_offset_ns;
     std::filesystem::create_directories(out_dir);
-    PoseTrajectory gt = sampleTrajectory(*trajectory, config.duration, config.groundtruth_rate);
     for (auto& sp : gt)
       sp.t += static_cast<double>(config.time_offset_ns) * 1e-9;
     writeDatasetWithoutEvents(out_dir, config, gt);
@@ -200,7 +222,7 @@ int main(int argc, char** argv)
         << a.result.H_D << "\n# H (viewport correction, Eq. 3.14)\n"
         << a.result.H << "\nresidual_rms_px " << a.result.residual_dvs_px.rms << "\nline_grid_mean_event_distance_px "
         << st.mean_event_distance << "\nline_grid_mean_line_offset_px " << st.mean_line_offset << "\ntime_scale "
-        << time_scale << "\nrefresh_hz " << refresh_hz << "\nmax_screen_px_per_refresh " << mc.max_px_per_refresh
+        << time_scale << "\nrefresh_hz " << refresh_hz << "\nresponse_ms " << response_ms << "\nmax_screen_px_per_refresh " << mc.max_px_per_refresh
         << "\n";
     std::printf("%zu events over %.3f s of trajectory (%.1f s of screen time, %.1f s CPU) -> %s\n", events.size(),
                 config.duration, config.duration * time_scale, cpu, out_dir.c_str());

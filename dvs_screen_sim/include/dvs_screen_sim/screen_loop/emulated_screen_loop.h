@@ -65,11 +65,15 @@ public:
   dvs_driver::EventVector showLines(const Pose& T_world_virtual, const std::vector<WorldLine>& lines, double width,
                                     bool corrected, int frames);
 
-  /// Play `scene` along `trajectory` from trajectory time 0 to `duration`, the screen showing
-  /// the pose at trajectory time (screen time since the start) / time_scale at every refresh.
-  /// Returns the events in the trajectory's time base (time stamps rescaled, starting at 0).
+  /// Play `scene` along `trajectory` from trajectory time 0 to `duration`. Each refresh holds
+  /// one frame on the screen for dt = refresh_period / time_scale of trajectory time, showing
+  /// the pose at the centre of its display interval (sample and hold centred on the trajectory:
+  /// the events of a frame switch, which fill the band swept between two displayed poses, are
+  /// then centred on the switch time). Returns the events in the trajectory's time base (time
+  /// stamps rescaled, starting at 0); `shown` (optional) receives the displayed poses, each
+  /// stamped at the centre of its display interval, i.e. at the trajectory time it shows.
   dvs_driver::EventVector playTrajectory(const Scene& scene, const Trajectory& trajectory, double duration,
-                                         const TimeScale& time_scale);
+                                         const TimeScale& time_scale, PoseTrajectory* shown = nullptr);
 
   ProjectionPipeline& pipeline();
   const EventSimulator& simulator() const { return *sim_; }

@@ -18,6 +18,9 @@ struct MonitorGeometry
   double pixel_pitch = 0.0005;           ///< [m] per screen pixel (square pixels)
   double black_level = 0.0;              ///< intensity of a black pixel (backlight leak)
   double white_level = 1.0;              ///< intensity of a white pixel
+  /// [s] pixel response time: a new frame's luminance is reached linearly over this time after
+  /// the refresh (LCDs: a few ms grey-to-grey); 0: an ideal, instantaneous screen.
+  double response_time = 0.0;
 };
 
 /// Draws frame `frame_index` (the renderer is the current GL context) into the back buffer.
