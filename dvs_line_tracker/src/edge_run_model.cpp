@@ -5,11 +5,14 @@
 namespace dvs_line_tracker
 {
 EdgeRunModel::EdgeRunModel(int width, int height, const EdgeRunModelParams& params)
-  : params_(params), width_(width), runs_(static_cast<size_t>(width) * height, 0)
+  : params_(params)
+  , width_(width)
+  , runs_(static_cast<size_t>(width) * height, 0)
+  , levels_(runs_.size(), -1.0f)
 {
   next_update_ = static_cast<uint64_t>(std::max(1, params.min_learning_runs));
   if (params.enabled && params.contrast_threshold > 0)
-    buildTable(params.contrast_threshold);
+    useThreshold(params.contrast_threshold);
 }
 
 double EdgeRunModel::runOffset(bool polarity, int k, double threshold, double contrast_ratio)
@@ -20,14 +23,11 @@ double EdgeRunModel::runOffset(bool polarity, int k, double threshold, double co
   return dark - 0.5;
 }
 
-void EdgeRunModel::buildTable(double threshold)
+void EdgeRunModel::useThreshold(double threshold)
 {
   threshold_ = threshold;
-  for (int k = 1; k <= kMaxRun; ++k)
-  {
-    offsets_[1][k - 1] = runOffset(true, k, threshold, params_.edge_contrast_ratio);
-    offsets_[0][k - 1] = runOffset(false, k, threshold, params_.edge_contrast_ratio);
-  }
+  low_ = 0.5 * threshold;
+  high_ = std::max(low_, std::log(params_.edge_contrast_ratio) - 0.5 * threshold);
   active_ = true;
 }
 
@@ -41,11 +41,12 @@ void EdgeRunModel::recordCompletedRun(int length)
   const uint64_t first = static_cast<uint64_t>(std::max(1, params_.min_learning_runs));
   next_update_ = std::min(next_update_ * 2, next_update_ + 64 * first);
   const double full_sweep = meanRunLength() + 0.5;
-  buildTable(std::log(params_.edge_contrast_ratio) / full_sweep);
+  useThreshold(std::log(params_.edge_contrast_ratio) / full_sweep);
 }
 
 void EdgeRunModel::resetRuns()
 {
   std::fill(runs_.begin(), runs_.end(), 0);
+  std::fill(levels_.begin(), levels_.end(), -1.0f);
 }
 }  // namespace dvs_line_tracker

@@ -27,25 +27,52 @@ TEST(EdgeRunModel, OffsetsOfTheRunIndexKnownAnswers)
   EXPECT_DOUBLE_EQ(EdgeRunModel::runOffset(false, 20, 0.3, 9.0), 0.5);
 }
 
-TEST(EdgeRunModel, CountsRunsPerPixelAndPolarity)
+TEST(EdgeRunModel, FullSweepsFollowTheRunTable)
 {
   EdgeRunModelParams params;
   params.contrast_threshold = 0.3;
   EdgeRunModel model(4, 4, params);
   EXPECT_DOUBLE_EQ(model.threshold(), 0.3);
-  // Pixel (1, 2): three OFF events then two ON: indices 1, 2, 3 then 1, 2.
-  EXPECT_DOUBLE_EQ(model.update(1, 2, false), EdgeRunModel::runOffset(false, 1, 0.3, 9.0));
-  EXPECT_DOUBLE_EQ(model.update(1, 2, false), EdgeRunModel::runOffset(false, 2, 0.3, 9.0));
+  // Pixel (1, 2): a dark edge sweeps in (7 OFF events: a full sweep, ln 9 / 0.3 = 7.3 steps),
+  // then out again (ON): each run restarts from saturation and follows the table.
+  for (int k = 1; k <= 6; ++k)
+    EXPECT_NEAR(model.update(1, 2, false), EdgeRunModel::runOffset(false, k, 0.3, 9.0), 1e-6) << k;
   // Another pixel does not disturb it.
-  EXPECT_DOUBLE_EQ(model.update(2, 1, true), EdgeRunModel::runOffset(true, 1, 0.3, 9.0));
-  EXPECT_DOUBLE_EQ(model.update(1, 2, false), EdgeRunModel::runOffset(false, 3, 0.3, 9.0));
-  EXPECT_DOUBLE_EQ(model.update(1, 2, true), EdgeRunModel::runOffset(true, 1, 0.3, 9.0));
-  EXPECT_DOUBLE_EQ(model.update(1, 2, true), EdgeRunModel::runOffset(true, 2, 0.3, 9.0));
-  EXPECT_EQ(model.completedRuns(), 1u);  // the 3-event OFF run
-  EXPECT_DOUBLE_EQ(model.meanRunLength(), 3.0);
-  // A very long run saturates at the last table entry, no overflow.
+  EXPECT_NEAR(model.update(2, 1, true), EdgeRunModel::runOffset(true, 1, 0.3, 9.0), 1e-6);
+  model.update(1, 2, false);
+  for (int k = 1; k <= 6; ++k)
+    EXPECT_NEAR(model.update(1, 2, true), EdgeRunModel::runOffset(true, k, 0.3, 9.0), 1e-6) << k;
+  EXPECT_EQ(model.completedRuns(), 1u);  // the 7-event OFF run
+  EXPECT_DOUBLE_EQ(model.meanRunLength(), 7.0);
+  // A very long run saturates (the pixel fully bright: the edge half a pixel beyond its centre
+  // on the dark side, up to the half step of the reference level), no overflow.
+  double last = 1.0;
   for (int i = 0; i < 300; ++i)
-    EXPECT_DOUBLE_EQ(model.update(0, 0, true), EdgeRunModel::runOffset(true, std::min(i + 1, EdgeRunModel::kMaxRun), 0.3, 9.0));
+  {
+    const double offset = model.update(0, 0, true);
+    EXPECT_LE(offset, last + 1e-12);
+    last = offset;
+  }
+  EXPECT_NEAR(last, 0.5 - std::expm1(std::log(9.0) - 0.15) / 8.0, 1e-6);  // -0.34 px
+}
+
+TEST(EdgeRunModel, APartialSweepContinuesFromItsLevel)
+{
+  EdgeRunModelParams params;
+  params.contrast_threshold = 0.3;
+  EdgeRunModel model(4, 4, params);
+  // Three OFF events from a bright pixel (the edge enters it), then the edge turns back: the
+  // first ON event fires one step above the last OFF level, i.e. two steps below the bright
+  // saturation -- not at the first ON level of a dark pixel (which would put the edge 0.43 px
+  // the other way).
+  for (int k = 0; k < 3; ++k)
+    model.update(3, 3, false);
+  const double level = std::log(9.0) - 0.15 - 3 * 0.3 + 0.3;
+  const double turned_back = model.update(3, 3, true);
+  EXPECT_NEAR(turned_back, 0.5 - std::expm1(level) / 8.0, 1e-6);  // +0.09 px
+  EXPECT_GT(EdgeRunModel::runOffset(true, 1, 0.3, 9.0) - turned_back, 0.3);
+  // And back again: one step down from there.
+  EXPECT_NEAR(model.update(3, 3, false), 0.5 - std::expm1(level - 0.3) / 8.0, 1e-6);
 }
 
 TEST(EdgeRunModel, LearnsTheThresholdFromTheRunLengths)

@@ -47,9 +47,9 @@ TEST(EndToEnd, Flip1200DegPerSecondAt2m)
   const AccuracyReport r = evaluateTrajectory(run.estimates, sim.ground_truth, 0.05);
   EXPECT_EQ(r.samples_tracked, r.samples);  // 100 % tracked
   EXPECT_EQ(run.stats.losses, 0u);
-  EXPECT_LT(r.rms_position_m, 0.035);  // measured 3.06 cm (2026-11-21; 4.04 cm before the run model)
+  EXPECT_LT(r.rms_position_m, 0.031);  // measured 2.66 cm (2026-11-21; 4.04 cm before the run model)
   EXPECT_LT(r.rms_orientation_rad, 1.5 * kDeg);  // the target
-  EXPECT_LT(r.max_position_m, 0.115);  // measured 9.8 cm
+  EXPECT_LT(r.max_position_m, 0.10);   // the target; measured 7.6 cm
   EXPECT_LT(r.max_orientation_rad, 6 * kDeg);
   EXPECT_EQ(run.final_state, TrackerState::kTracking);
   std::printf("flip 2 m: first pose %.3f s, RMS %.2f cm %.2f deg, max %.2f cm %.2f deg\n", r.first_estimate_s,
@@ -68,9 +68,9 @@ TEST(EndToEnd, Flip1200DegPerSecondAt1_5m)
   const AccuracyReport r = evaluateTrajectory(run.estimates, sim.ground_truth, 0.05);
   EXPECT_EQ(r.samples_tracked, r.samples);
   EXPECT_EQ(run.stats.losses, 0u);
-  EXPECT_LT(r.rms_position_m, 0.025);  // measured 1.95 cm (2026-11-21); the target is 2 cm
+  EXPECT_LT(r.rms_position_m, 0.02);   // the target; measured 1.68 cm (2026-11-21)
   EXPECT_LT(r.rms_orientation_rad, 1.5 * kDeg);
-  EXPECT_LT(r.max_position_m, 0.11);  // measured 8.3 cm
+  EXPECT_LT(r.max_position_m, 0.10);  // the target; measured 5.5 cm
   EXPECT_LT(r.max_orientation_rad, 6 * kDeg);
   std::printf("flip 1.5 m: RMS %.2f cm %.2f deg, max %.2f cm %.2f deg\n", 100 * r.rms_position_m,
               r.rms_orientation_rad / kDeg, 100 * r.max_position_m, r.max_orientation_rad / kDeg);
@@ -84,7 +84,7 @@ TEST(EndToEnd, CircleAt2_5m)
   ASSERT_FALSE(run.estimates.empty());
   const AccuracyReport r = evaluateTrajectory(run.estimates, sim.ground_truth, 0.05);
   EXPECT_EQ(r.samples_tracked, r.samples);
-  EXPECT_LT(r.rms_position_m, 0.03);   // the target; measured 2.57 cm (2026-11-21)
+  EXPECT_LT(r.rms_position_m, 0.03);   // the target; measured 2.50 cm (2026-11-21)
   EXPECT_LT(r.rms_orientation_rad, 2.0 * kDeg);  // the target
   EXPECT_LT(r.max_position_m, 0.09);   // measured 7.1 cm
   std::printf("circle 2.5 m: RMS %.2f cm %.2f deg, max %.2f cm %.2f deg\n", 100 * r.rms_position_m,

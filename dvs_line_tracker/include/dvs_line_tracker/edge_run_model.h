@@ -7,16 +7,23 @@
 // covered fraction of the pixel has reached a value fixed by k, C and rho: ON events (the bright
 // side entering) fire when the bright fraction b_k = (exp((k + 1/2) C) - 1) / (rho - 1), OFF
 // events when the dark fraction d_k = (1 - exp(-(k + 1/2) C)) / (1 - 1 / rho) (the pixel's
-// reference level sits half a step past the previous run's last level on average). The edge
-// then lies (dark fraction - 1/2) px from the pixel centre towards the bright side: from +0.43 px
-// for the first ON event to -0.5 px for the last, instead of a constant offset. With rho = 9,
-// C = 0.3 this cuts the error of the event positions from 0.27 px to 0.12 px RMS (BENCHMARKS.md).
+// reference level sits half a step inside the saturated level on average). The edge then lies
+// (dark fraction - 1/2) px from the pixel centre towards the bright side: from +0.43 px for the
+// first ON event to -0.5 px for the last, instead of a constant offset.
+//
+// Each pixel's log level (above the dark side's, in [C/2, ln(rho) - C/2]) is integrated from its
+// events. A run that follows a full sweep (the previous run ended within one step of its far
+// bound) restarts from the saturated bound, so threshold mismatch does not accumulate; a run that
+// follows a partial one (the edge turned back inside the pixel, as when a motion stops or
+// reverses) continues from where that one ended. A pixel's first run starts from the saturated
+// bound. With rho = 9, C = 0.3 this cuts the error of the event positions from 0.27 px (constant
+// offset) to 0.11 px RMS (BENCHMARKS.md).
 //
 // C is learned from the events when not given: a full sweep yields floor(ln(rho) / C - u)
 // events (u uniform in [0, 1)), so the mean length of the completed runs of >= 3 events is
 // ln(rho) / C - 1/2. Until enough runs were seen, a constant offset is used.
 //
-// Per event: one byte of state per pixel and a table lookup; nothing allocates.
+// Per event: five bytes of state per pixel and one expm1; nothing allocates.
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -43,21 +50,32 @@ public:
   /// from the pixel centre towards the edge's bright side at the time of the event.
   double update(int x, int y, bool polarity)
   {
-    uint8_t& run = runs_[static_cast<size_t>(y) * width_ + x];
+    const size_t i = static_cast<size_t>(y) * width_ + x;
+    uint8_t& run = runs_[i];
     const uint8_t polarity_bit = polarity ? 0x80 : 0;
-    if ((run & 0x80) != polarity_bit || run == 0)
+    const bool new_run = run == 0 || (run & 0x80) != polarity_bit;
+    if (new_run)
     {
       const int finished = run & 0x7f;
-      if (finished >= 3 && (run & 0x80) != polarity_bit)
+      if (finished >= 3)
         recordCompletedRun(finished);
       run = polarity_bit | 1;
     }
     else if ((run & 0x7f) < kMaxRun)
       ++run;
-    return active_ ? offsets_[polarity ? 1 : 0][(run & 0x7f) - 1] : params_.constant_offset_px;
+    if (!active_)
+      return params_.constant_offset_px;
+    float& level = levels_[i];
+    // A new run restarts from the saturated bound after a full sweep (or in a fresh pixel), and
+    // continues from the previous run's end after a partial one.
+    if (new_run && (level < 0 || (polarity ? level <= low_ + threshold_ : level >= high_ - threshold_)))
+      level = static_cast<float>(polarity ? low_ : high_);
+    level = static_cast<float>(std::fmin(high_, std::fmax(low_, level + (polarity ? threshold_ : -threshold_))));
+    return offsetAtLevel(level);
   }
 
-  /// The offset of the k-th event (k >= 1) of a run for threshold C and contrast ratio rho.
+  /// The offset of the k-th event (k >= 1) of a run that started from saturation, for threshold
+  /// C and contrast ratio rho.
   static double runOffset(bool polarity, int k, double threshold, double contrast_ratio);
 
   /// The threshold in use (given or learned); 0 while the constant offset is used.
@@ -67,19 +85,24 @@ public:
   uint64_t completedRuns() const { return completed_runs_; }
   const EdgeRunModelParams& params() const { return params_; }
 
-  /// Forget the pixels' runs (the learned threshold, a property of the sensor, is kept).
+  /// Forget the pixels' runs and levels (the learned threshold, a property of the sensor, is kept).
   void resetRuns();
 
 private:
+  /// Edge offset (px, towards the bright side) when the pixel's log level is `level` above dark.
+  double offsetAtLevel(double level) const
+  {
+    return 0.5 - std::expm1(level) / (params_.edge_contrast_ratio - 1.0);
+  }
   void recordCompletedRun(int length);
-  void buildTable(double threshold);
+  void useThreshold(double threshold);
 
   EdgeRunModelParams params_;
   int width_;
-  std::vector<uint8_t> runs_;  ///< per pixel: polarity (bit 7), length of its current run (bits 0-6)
-  double offsets_[2][kMaxRun];  ///< [polarity][run length - 1]
+  std::vector<uint8_t> runs_;   ///< per pixel: polarity (bit 7), length of its current run (bits 0-6)
+  std::vector<float> levels_;   ///< per pixel: log level at its last event; < 0: no event yet
   bool active_ = false;
-  double threshold_ = 0;
+  double threshold_ = 0, low_ = 0, high_ = 0;
   double run_length_sum_ = 0;
   uint64_t completed_runs_ = 0;
   uint64_t next_update_ = 0;  ///< completed-run count at which the learned threshold is refreshed
