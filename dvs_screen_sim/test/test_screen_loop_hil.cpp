@@ -215,6 +215,7 @@ TEST(ScreenInTheLoop, PlaybackEventsAreInTrajectoryTimeOnTheProjectedEdges)
   ec.monitor.white_level = 0.9;
   ec.pattern.spacing_vp = {0.085, 0.11};
   ec.pattern.radius_px = 11;
+  ec.monitor.response_time = 0.002;
   EmulatedScreenLoop loop(ec, gl);
   ASSERT_TRUE(loop.align().ok);
 
@@ -232,13 +233,16 @@ TEST(ScreenInTheLoop, PlaybackEventsAreInTrajectoryTimeOnTheProjectedEdges)
   const dvs_driver::EventVector events = loop.playTrajectory(scene, trajectory, duration, TimeScale{4.0}, &shown);
   ASSERT_GT(events.size(), 2000u);
   // One displayed pose per refresh, each the trajectory's pose at the centre of its display
-  // interval (refresh period / time scale of trajectory time).
+  // interval (refresh period / time scale of trajectory time), stamped half the monitor's
+  // response time later (when its light is half-way).
   const double hold = ec.refresh_period / 4.0;
+  const double seen_delay = 0.5 * ec.monitor.response_time / 4.0;
   ASSERT_NEAR(static_cast<double>(shown.size()), duration / hold, 1.5);
   for (size_t i = 0; i < shown.size(); ++i)
   {
-    ASSERT_NEAR(shown[i].t, (static_cast<double>(i) + 0.5) * hold, 1e-9) << "frame " << i;
-    EXPECT_LT((shown[i].T_world_cam.p - trajectory.poseAt(shown[i].t).p).norm(), 1e-12);
+    const double centre = (static_cast<double>(i) + 0.5) * hold;
+    ASSERT_NEAR(shown[i].t, centre + seen_delay, 1e-9) << "frame " << i;
+    EXPECT_LT((shown[i].T_world_cam.p - trajectory.poseAt(centre).p).norm(), 1e-12);
   }
   size_t near = 0;
   for (const auto& e : events)

@@ -55,11 +55,11 @@ struct LineTrackerParams
   int init_min_events = 100;         ///< voted events before the first detection attempt
   int init_refine_events = 400;      ///< latest window events used to refine the initial pose (point-to-line)
   double init_border_margin_px = 3.0; ///< detected segments this close to an image border along it are ignored
-  double init_min_coverage = 0.6;
+  double init_min_coverage = 0.6;   ///< each projected side's visible length must be this much covered by window events
   int init_confirmations = 1;          ///< a detection is accepted when this many of the last 4 detections agree with it
   double init_confirm_position_ratio = 0.1;   ///< agreement: position difference / distance
   double init_confirm_angle_deg = 8.0;        ///< agreement: orientation difference
-  double init_max_inside_ratio = 0.3; ///< window events well inside the polygon / events on its sides, upper bound    ///< each projected side's visible length must be this much covered by window events
+  double init_max_inside_ratio = 0.3; ///< window events well inside the polygon / events on its sides, upper bound
   // Tracking-quality monitoring.
   int quality_check_interval = 512;  ///< events between quality checks while tracking
   int min_visible_segments = 3;      ///< fewer visible (>= min_visible_length_px inside the image) -> lost

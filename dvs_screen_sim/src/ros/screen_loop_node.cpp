@@ -113,6 +113,7 @@ int main(int argc, char** argv)
     const std::string world_frame = param<std::string>(pnh, "world_frame", "world");
     const std::string gt_frame = param<std::string>(pnh, "ground_truth_frame", "dvs_gt");
     const int refresh_frames = param(pnh, "refresh_measurement_frames", 60);
+    const double response_time = param(pnh, "monitor_response_time", 0.0);
     require(!fullscreen ? (width > 16 && height > 16) : true, "~width and ~height must be > 16");
     try
     {
@@ -126,6 +127,7 @@ int main(int argc, char** argv)
     require(alignment_attempts >= 1, "~alignment_attempts must be >= 1");
     require(max_residual > 0, "~max_alignment_residual must be positive");
     require(refresh_frames >= 3, "~refresh_measurement_frames must be >= 3");
+    require(response_time >= 0 && response_time < 0.1, "~monitor_response_time must be in [0, 0.1) s");
     try
     {
       time_scale.validate();
@@ -282,7 +284,8 @@ int main(int argc, char** argv)
       // The frame stays on the screen for one refresh from shown_dvs. The DVS's events of a frame
       // switch fill the band swept between two consecutive displayed poses, so each displayed
       // pose is stamped at the centre of its display interval (as emulate_screen_loop does).
-      shown_dvs += hold_ns / 2;
+      // The DVS sees it once the monitor's light has moved half-way (half its response time).
+      shown_dvs += hold_ns / 2 + static_cast<int64_t>(std::llround(0.5 * response_time * 1e9));
       const StampedPose live{shown_dvs * 1e-9, pose};
       pose_pub.publish(toPoseStamped(live, world_frame));
       tf.sendTransform(toTransform(live, world_frame, gt_frame));

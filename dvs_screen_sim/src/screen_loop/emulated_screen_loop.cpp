@@ -32,6 +32,7 @@ struct EmulatedScreenLoop::Program
   double refresh_period = 1.0 / 60;
   TimeScale time_scale;
   PoseTrajectory* shown = nullptr;  ///< receives the displayed poses when set
+  double seen_delay = 0;            ///< screen time from a frame's nominal time to its light being half-way (half the response time)
 
   void draw(int64_t frame, GlScreenRenderer& gl)
   {
@@ -65,8 +66,12 @@ struct EmulatedScreenLoop::Program
         gl.clear(scene->background_reflectance);
         gl.setMatrices(pipeline.correctedProjection(), viewMatrix(pose));
         gl.drawScenePolygons(*scene, t_traj);
+        // The DVS sees the frame once the monitor's light has moved half-way to it (half its
+        // response time after the switch): the ground truth is stamped then.
         if (shown && frame >= first_frame)
-          shown->push_back({t_traj, pose});
+          shown->push_back(
+              {time_scale.trajectoryTime((static_cast<double>(frame - first_frame) + 0.5) * refresh_period + seen_delay),
+               pose});
         return;
       }
     }
@@ -179,6 +184,7 @@ dvs_driver::EventVector EmulatedScreenLoop::playTrajectory(const Scene& scene, c
   program_->trajectory = &trajectory;
   program_->time_scale = time_scale;
   program_->shown = shown;
+  program_->seen_delay = 0.5 * config_.monitor.response_time;
   if (shown)
     shown->clear();
   program_->first_frame = std::numeric_limits<int64_t>::max() / 4;  // start pose until armed

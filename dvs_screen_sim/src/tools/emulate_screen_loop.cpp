@@ -41,7 +41,7 @@ void usage(std::ostream& out)
          "  --window WxH     OpenGL window = monitor pixels (default 1024x768, 0.6 mm pitch)\n"
          "  DIR receives the dataset files of `simulate` (events.txt in trajectory time) and alignment.txt;\n"
          "  groundtruth.txt holds the poses the screen showed, one per refresh, each stamped at the centre of\n"
-         "  its display interval\n";
+         "  its display interval plus half the monitor's response time (when its light is half-way)\n";
 }
 
 bool parseDouble(const std::string& s, double& v)
@@ -203,7 +203,7 @@ int main(int argc, char** argv)
                 time_scale);
 
     const std::clock_t c0 = std::clock();
-    PoseTrajectory gt;  // the poses the screen showed, each stamped at the centre of its display interval
+    PoseTrajectory gt;  // the poses the screen showed, each stamped when the DVS sees it (centre of its display interval + half the response time)
     dvs_driver::EventVector events =
         loop.playTrajectory(config.scene, *trajectory, config.duration, TimeScale{time_scale}, &gt);
     const double cpu = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
