@@ -36,59 +36,68 @@ double firstEventTime(const dvs_driver::EventVector& events) { return events.fro
 constexpr double kDeg = M_PI / 180.0;
 }  // namespace
 
+// Track a simulated sequence with the default parameters; prints and returns the accuracy.
+struct Tracked
+{
+  Simulated sim;
+  TrackingRun run;
+  AccuracyReport accuracy;
+};
+
+static Tracked trackSimulated(const std::string& label, const std::string& scenario, const std::string& overrides_yaml)
+{
+  Tracked t;
+  t.sim = simulate(scenario, overrides_yaml);
+  LineTracker tracker(t.sim.config.camera, defaultSquareMap());
+  t.run = runTracker(tracker, t.sim.output.events);
+  t.accuracy = evaluateTrajectory(t.run.estimates, t.sim.ground_truth, 0.05);
+  const AccuracyReport& r = t.accuracy;
+  std::printf("%s: first pose %.3f s, RMS %.2f cm %.2f deg, max %.2f cm %.2f deg\n", label.c_str(),
+              r.first_estimate_s, 100 * r.rms_position_m, r.rms_orientation_rad / kDeg, 100 * r.max_position_m,
+              r.max_orientation_rad / kDeg);
+  return t;
+}
+
 TEST(EndToEnd, Flip1200DegPerSecondAt2m)
 {
-  const Simulated sim = simulate("flip", "trajectory: {flip: {distance: 2.0, peak_rate_deg_s: 1200}}");
-  LineTracker tracker(sim.config.camera, defaultSquareMap());
-  const TrackingRun run = runTracker(tracker, sim.output.events);
-  ASSERT_FALSE(run.estimates.empty());
+  const Tracked t = trackSimulated("flip 2 m", "flip", "trajectory: {flip: {distance: 2.0, peak_rate_deg_s: 1200}}");
+  const AccuracyReport& r = t.accuracy;
+  ASSERT_FALSE(t.run.estimates.empty());
   // First pose within 0.25 s of the first events.
-  EXPECT_LT(run.estimates.front().t_s - firstEventTime(sim.output.events), 0.25);
-  const AccuracyReport r = evaluateTrajectory(run.estimates, sim.ground_truth, 0.05);
+  EXPECT_LT(t.run.estimates.front().t_s - firstEventTime(t.sim.output.events), 0.25);
   EXPECT_EQ(r.samples_tracked, r.samples);  // 100 % tracked
-  EXPECT_EQ(run.stats.losses, 0u);
-  EXPECT_LT(r.rms_position_m, 0.031);  // measured 2.66 cm (2026-11-21; 4.04 cm before the run model)
+  EXPECT_EQ(t.run.stats.losses, 0u);
+  EXPECT_LT(r.rms_position_m, 0.031);  // measured 2.66 cm (2026-11-21; 4.04 cm before the edge model)
   EXPECT_LT(r.rms_orientation_rad, 1.5 * kDeg);  // the target
   EXPECT_LT(r.max_position_m, 0.10);   // the target; measured 7.6 cm
   EXPECT_LT(r.max_orientation_rad, 6 * kDeg);
-  EXPECT_EQ(run.final_state, TrackerState::kTracking);
-  std::printf("flip 2 m: first pose %.3f s, RMS %.2f cm %.2f deg, max %.2f cm %.2f deg\n", r.first_estimate_s,
-              100 * r.rms_position_m, r.rms_orientation_rad / kDeg, 100 * r.max_position_m,
-              r.max_orientation_rad / kDeg);
+  EXPECT_EQ(t.run.final_state, TrackerState::kTracking);
 }
 
 // Closer, the square fills more of the view and two corners leave it at the top of the rise:
 // the partly visible sides carry the pose (stale events of the parts that left are dropped).
 TEST(EndToEnd, Flip1200DegPerSecondAt1_5m)
 {
-  const Simulated sim = simulate("flip", "trajectory: {flip: {distance: 1.5, peak_rate_deg_s: 1200}}");
-  LineTracker tracker(sim.config.camera, defaultSquareMap());
-  const TrackingRun run = runTracker(tracker, sim.output.events);
-  ASSERT_FALSE(run.estimates.empty());
-  const AccuracyReport r = evaluateTrajectory(run.estimates, sim.ground_truth, 0.05);
+  const Tracked t = trackSimulated("flip 1.5 m", "flip", "trajectory: {flip: {distance: 1.5, peak_rate_deg_s: 1200}}");
+  const AccuracyReport& r = t.accuracy;
+  ASSERT_FALSE(t.run.estimates.empty());
   EXPECT_EQ(r.samples_tracked, r.samples);
-  EXPECT_EQ(run.stats.losses, 0u);
+  EXPECT_EQ(t.run.stats.losses, 0u);
   EXPECT_LT(r.rms_position_m, 0.02);   // the target; measured 1.68 cm (2026-11-21)
   EXPECT_LT(r.rms_orientation_rad, 1.5 * kDeg);
-  EXPECT_LT(r.max_position_m, 0.10);  // the target; measured 5.5 cm
+  EXPECT_LT(r.max_position_m, 0.10);   // the target; measured 5.5 cm
   EXPECT_LT(r.max_orientation_rad, 6 * kDeg);
-  std::printf("flip 1.5 m: RMS %.2f cm %.2f deg, max %.2f cm %.2f deg\n", 100 * r.rms_position_m,
-              r.rms_orientation_rad / kDeg, 100 * r.max_position_m, r.max_orientation_rad / kDeg);
 }
 
 TEST(EndToEnd, CircleAt2_5m)
 {
-  const Simulated sim = simulate("circle", "trajectory: {circle: {distance: 2.5}}\nduration: 2.0");
-  LineTracker tracker(sim.config.camera, defaultSquareMap());
-  const TrackingRun run = runTracker(tracker, sim.output.events);
-  ASSERT_FALSE(run.estimates.empty());
-  const AccuracyReport r = evaluateTrajectory(run.estimates, sim.ground_truth, 0.05);
+  const Tracked t = trackSimulated("circle 2.5 m", "circle", "trajectory: {circle: {distance: 2.5}}\nduration: 2.0");
+  const AccuracyReport& r = t.accuracy;
+  ASSERT_FALSE(t.run.estimates.empty());
   EXPECT_EQ(r.samples_tracked, r.samples);
   EXPECT_LT(r.rms_position_m, 0.03);   // the target; measured 2.50 cm (2026-11-21)
   EXPECT_LT(r.rms_orientation_rad, 2.0 * kDeg);  // the target
-  EXPECT_LT(r.max_position_m, 0.09);   // measured 7.1 cm
-  std::printf("circle 2.5 m: RMS %.2f cm %.2f deg, max %.2f cm %.2f deg\n", 100 * r.rms_position_m,
-              r.rms_orientation_rad / kDeg, 100 * r.max_position_m, r.max_orientation_rad / kDeg);
+  EXPECT_LT(r.max_position_m, 0.09);   // measured 7.9 cm
 }
 
 // Mean position error along the camera's optical axis (m; < 0: the estimate is farther from the
