@@ -195,10 +195,11 @@ int main(int argc, char** argv)
   LineTrackerParams incremental;
   LineTrackerParams full;
   full.estimator.solver = SolverType::kFullGaussNewton;
-  LineTrackerParams thesis;  // the thesis's buffer size, events where they are, an undamped solver
+  LineTrackerParams thesis;  // the thesis's buffer size, events where they are, an undamped least-squares solver
   thesis.buffer_size = 8;
   thesis.buffer_motion_px = 0;
   thesis.estimator.damping = 1e-4;
+  thesis.estimator.huber_px = 1e3;  // plain least squares
   thesis.edge_run_model = false;
   thesis.edge_offset_px = 0;
   LineTrackerParams constant_offset;  // the default with the constant dark-side offset instead of the run model

@@ -67,9 +67,9 @@ TEST(EndToEnd, Flip1200DegPerSecondAt2m)
   EXPECT_LT(t.run.estimates.front().t_s - firstEventTime(t.sim.output.events), 0.25);
   EXPECT_EQ(r.samples_tracked, r.samples);  // 100 % tracked
   EXPECT_EQ(t.run.stats.losses, 0u);
-  EXPECT_LT(r.rms_position_m, 0.031);  // measured 2.66 cm (2026-11-21; 4.04 cm before the edge model)
+  EXPECT_LT(r.rms_position_m, 0.029);  // measured 2.50 cm (2026-11-21; 4.04 cm before the edge model)
   EXPECT_LT(r.rms_orientation_rad, 1.5 * kDeg);  // the target
-  EXPECT_LT(r.max_position_m, 0.10);   // the target; measured 7.6 cm
+  EXPECT_LT(r.max_position_m, 0.10);   // the target; measured 6.8 cm
   EXPECT_LT(r.max_orientation_rad, 6 * kDeg);
   EXPECT_EQ(t.run.final_state, TrackerState::kTracking);
 }
@@ -83,9 +83,9 @@ TEST(EndToEnd, Flip1200DegPerSecondAt1_5m)
   ASSERT_FALSE(t.run.estimates.empty());
   EXPECT_EQ(r.samples_tracked, r.samples);
   EXPECT_EQ(t.run.stats.losses, 0u);
-  EXPECT_LT(r.rms_position_m, 0.02);   // the target; measured 1.68 cm (2026-11-21)
+  EXPECT_LT(r.rms_position_m, 0.02);   // the target; measured 1.71 cm (2026-11-21)
   EXPECT_LT(r.rms_orientation_rad, 1.5 * kDeg);
-  EXPECT_LT(r.max_position_m, 0.10);   // the target; measured 5.5 cm
+  EXPECT_LT(r.max_position_m, 0.10);   // the target; measured 5.6 cm
   EXPECT_LT(r.max_orientation_rad, 6 * kDeg);
 }
 
@@ -95,7 +95,7 @@ TEST(EndToEnd, CircleAt2_5m)
   const AccuracyReport& r = t.accuracy;
   ASSERT_FALSE(t.run.estimates.empty());
   EXPECT_EQ(r.samples_tracked, r.samples);
-  EXPECT_LT(r.rms_position_m, 0.03);   // the target; measured 2.50 cm (2026-11-21)
+  EXPECT_LT(r.rms_position_m, 0.03);   // the target; measured 2.54 cm (2026-11-21)
   EXPECT_LT(r.rms_orientation_rad, 2.0 * kDeg);  // the target
   EXPECT_LT(r.max_position_m, 0.09);   // measured 7.9 cm
 }
@@ -265,7 +265,7 @@ TEST(Robustness, BackgroundNoise2HzPerPixel)
   EXPECT_LT(run.estimates.front().t_s - firstEventTime(sim.output.events), 0.25);
   const AccuracyReport r = evaluateTrajectory(run.estimates, sim.ground_truth, 0.05);
   EXPECT_EQ(r.samples_tracked, r.samples);
-  EXPECT_LT(r.rms_position_m, 0.06);  // measured 4.1 cm (2026-11-21; 6.9 cm before the run model)
+  EXPECT_LT(r.rms_position_m, 0.06);  // measured 3.1 cm (2026-11-21; 6.9 cm before the edge model)
   EXPECT_LT(r.rms_orientation_rad, 3.0 * kDeg);
   // The initial pose is right (a polygon assembled from noise would be far off).
   EXPECT_LT(positionError(run.estimates.front().pose, sim.ground_truth[static_cast<size_t>(r.first_estimate_s * 1000)].pose), 0.15);

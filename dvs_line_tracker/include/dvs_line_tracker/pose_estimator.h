@@ -30,7 +30,7 @@ struct PoseEstimatorParams
   int full_iterations = 3;       ///< Gauss-Newton iterations per event for kFullGaussNewton
   int extra_relinearizations = 1;///< incremental: segments re-linearised round robin per event besides the changed one
   double damping = 0.07;         ///< Levenberg-Marquardt damping, relative to each diagonal element of H (steadies weakly observable directions; more lags, BENCHMARKS.md)
-  double huber_px = 1.0;         ///< Huber threshold of the point-to-line residuals (weights fixed when an event is buffered)
+  double huber_px = 0.5;         ///< Huber threshold of the point-to-line residuals (weights fixed when an event is buffered; 0.5 measured better than 1, BENCHMARKS.md)
 };
 
 struct SegmentNormalEquations
