@@ -12,7 +12,12 @@ EdgeRunModel::EdgeRunModel(int width, int height, const EdgeRunModelParams& para
 {
   next_update_ = static_cast<uint64_t>(std::max(1, params.min_learning_runs));
   if (params.enabled && params.contrast_threshold > 0)
+  {
     useThreshold(params.contrast_threshold);
+    learned_ = true;
+  }
+  else if (params.enabled && params.prior_threshold > 0)
+    useThreshold(params.prior_threshold);
 }
 
 double EdgeRunModel::runOffset(bool polarity, int k, double threshold, double contrast_ratio)
@@ -42,6 +47,7 @@ void EdgeRunModel::recordCompletedRun(int length)
   next_update_ = std::min(next_update_ * 2, next_update_ + 64 * first);
   const double full_sweep = meanRunLength() + 0.5;
   useThreshold(std::log(params_.edge_contrast_ratio) / full_sweep);
+  learned_ = true;
 }
 
 void EdgeRunModel::resetRuns()

@@ -72,6 +72,10 @@ std::string validateParams(const LineTrackerParams& p)
     err << "edge_offset_px must be in [0, max_orthogonal_distance_px) (got " << p.edge_offset_px << "); ";
   if (!(p.contrast_threshold >= 0 && p.contrast_threshold <= 2))
     err << "contrast_threshold must be in [0, 2] (0: learned; got " << p.contrast_threshold << "); ";
+  if (!(p.contrast_threshold_prior >= 0 && p.contrast_threshold_prior <= 2))
+    err << "contrast_threshold_prior must be in [0, 2] (0: constant offset until learned; got " << p.contrast_threshold_prior << "); ";
+  if (p.contrast_learning_runs < 1)
+    err << "contrast_learning_runs must be >= 1; ";
   if (!(p.edge_contrast_ratio > 1 && std::isfinite(p.edge_contrast_ratio)))
     err << "edge_contrast_ratio must be > 1 (got " << p.edge_contrast_ratio << "); ";
   if (!(p.buffer_motion_px >= 0 && std::isfinite(p.buffer_motion_px)))
@@ -88,6 +92,8 @@ EdgeRunModelParams edgeModelParams(const LineTrackerParams& p)
   EdgeRunModelParams m;
   m.enabled = p.edge_run_model;
   m.contrast_threshold = p.contrast_threshold;
+  m.min_learning_runs = p.contrast_learning_runs;
+  m.prior_threshold = p.contrast_threshold_prior;
   m.edge_contrast_ratio = p.edge_contrast_ratio;
   m.constant_offset_px = p.edge_offset_px;
   return m;

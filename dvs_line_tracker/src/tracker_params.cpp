@@ -45,6 +45,8 @@ void forEachParam(LineTrackerParams& p, const std::function<void(const ParamRef&
   d("max_parallel_distance_px", p.attribution.max_parallel_px, "px");
   b("edge_run_model", p.edge_run_model);
   d("contrast_threshold", p.contrast_threshold, "log intensity");
+  d("contrast_threshold_prior", p.contrast_threshold_prior, "log intensity");
+  i("contrast_learning_runs", p.contrast_learning_runs, "runs");
   d("edge_contrast_ratio", p.edge_contrast_ratio, "");
   d("edge_offset_px", p.edge_offset_px, "px");
   d("buffer_motion_px", p.buffer_motion_px, "px");

@@ -79,8 +79,15 @@ TEST(EdgeRunModel, LearnsTheThresholdFromTheRunLengths)
 {
   EdgeRunModelParams params;  // contrast_threshold 0: learn
   params.min_learning_runs = 100;
+  // Until enough runs were completed: the prior threshold; without a prior, the constant offset.
+  {
+    EdgeRunModel with_prior(8, 8, params);
+    EXPECT_DOUBLE_EQ(with_prior.threshold(), params.prior_threshold);
+    EXPECT_FALSE(with_prior.thresholdLearned());
+    EXPECT_NEAR(with_prior.update(5, 5, true), EdgeRunModel::runOffset(true, 1, params.prior_threshold, 9.0), 1e-6);
+  }
+  params.prior_threshold = 0;
   EdgeRunModel model(64, 64, params);
-  // Until enough runs were completed: the constant offset.
   EXPECT_DOUBLE_EQ(model.threshold(), 0.0);
   EXPECT_DOUBLE_EQ(model.update(5, 5, true), params.constant_offset_px);
   // Full sweeps of a sensor with C = 0.2 over edges of contrast 9: ln 9 / 0.2 = 11.0 steps,
@@ -101,6 +108,7 @@ TEST(EdgeRunModel, LearnsTheThresholdFromTheRunLengths)
   EXPECT_GT(model.completedRuns(), 700u);
   EXPECT_NEAR(model.meanRunLength(), 10.5, 1e-9);
   EXPECT_NEAR(model.threshold(), std::log(9.0) / 11.0, 1e-9);
+  EXPECT_TRUE(model.thresholdLearned());
   // A fixed threshold is never replaced.
   params.contrast_threshold = 0.45;
   EdgeRunModel fixed(8, 8, params);

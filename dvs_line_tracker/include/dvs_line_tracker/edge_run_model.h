@@ -21,7 +21,10 @@
 //
 // C is learned from the events when not given: a full sweep yields floor(ln(rho) / C - u)
 // events (u uniform in [0, 1)), so the mean length of the completed runs of >= 3 events is
-// ln(rho) / C - 1/2. Until enough runs were seen, a constant offset is used.
+// ln(rho) / C - 1/2. Runs complete only when a pixel's polarity changes, i.e. when the next edge
+// crosses it, which in slow motion takes long (the flip: ~0.5 s for the first 1000): until then
+// a prior C is used (events placed with the model from the start measured better than with the
+// constant offset, even with the prior 10 % off; BENCHMARKS.md).
 //
 // Per event: five bytes of state per pixel and one expm1; nothing allocates.
 #include <cmath>
@@ -34,8 +37,9 @@ struct EdgeRunModelParams
 {
   bool enabled = true;               ///< false: every event gets `constant_offset_px`
   double contrast_threshold = 0;     ///< C (log intensity); 0: learn it from the run lengths
+  double prior_threshold = 0.3;      ///< C used while learning, until enough runs were seen (0: the constant offset instead)
   double edge_contrast_ratio = 9.0;  ///< rho = bright / dark intensity of the tracked edges
-  double constant_offset_px = 0.15;  ///< offset used when disabled and until C is learned
+  double constant_offset_px = 0.15;  ///< offset used when disabled (and while learning without a prior)
   int min_learning_runs = 1000;      ///< completed runs before the learned C is used
 };
 
@@ -78,11 +82,13 @@ public:
   /// C and contrast ratio rho.
   static double runOffset(bool polarity, int k, double threshold, double contrast_ratio);
 
-  /// The threshold in use (given or learned); 0 while the constant offset is used.
+  /// The threshold in use (given, prior or learned); 0 while the constant offset is used.
   double threshold() const { return active_ ? threshold_ : 0.0; }
   /// Mean length of the completed runs of >= 3 events seen so far (0 if none).
   double meanRunLength() const { return completed_runs_ ? run_length_sum_ / completed_runs_ : 0.0; }
   uint64_t completedRuns() const { return completed_runs_; }
+  /// True once the threshold in use was learned from the runs (or given).
+  bool thresholdLearned() const { return learned_; }
   const EdgeRunModelParams& params() const { return params_; }
 
   /// Forget the pixels' runs and levels (the learned threshold, a property of the sensor, is kept).
@@ -102,6 +108,7 @@ private:
   std::vector<uint8_t> runs_;   ///< per pixel: polarity (bit 7), length of its current run (bits 0-6)
   std::vector<float> levels_;   ///< per pixel: log level at its last event; < 0: no event yet
   bool active_ = false;
+  bool learned_ = false;
   double threshold_ = 0, low_ = 0, high_ = 0;
   double run_length_sum_ = 0;
   uint64_t completed_runs_ = 0;

@@ -43,6 +43,8 @@ struct LineTrackerParams
   /// of an edge lie on its dark side on average).
   bool edge_run_model = true;
   double contrast_threshold = 0;    ///< the sensor's contrast threshold C (log intensity); 0: learned from the run lengths
+  double contrast_threshold_prior = 0.3; ///< C used until it is learned (0: the constant edge_offset_px until then)
+  int contrast_learning_runs = 1000; ///< completed runs (of >= 3 events) before the learned C replaces the prior
   double edge_contrast_ratio = 9.0; ///< bright / dark intensity across the tracked edges (black print on white paper: ~9)
   double edge_offset_px = 0.15;     ///< constant offset (no run model, or until C is learned); 0: pixel centres
   /// Buffered events are dropped once their projected segment has moved this far (along its
