@@ -184,6 +184,7 @@ int main(int argc, char** argv)
   if (!quick)
   {
     seqs.push_back(simulate("flip 1200 deg/s, 1.5 m", "flip", "trajectory: {flip: {distance: 1.5}}"));
+    seqs.push_back(simulate("flip 1200 deg/s, 1 m", "flip", "trajectory: {flip: {distance: 1.0}}"));
     seqs.push_back(simulate("circle, 2.5 m", "circle", "trajectory: {circle: {distance: 2.5}}"));
     seqs.push_back(simulate("flip 2000 deg/s, 2 m", "flip", "trajectory: {flip: {peak_rate_deg_s: 2000}}"));
     seqs.push_back(simulate("flip 2 m, noise 2 Hz/px", "flip", "events: {noise: {background_rate: 2.0}}"));

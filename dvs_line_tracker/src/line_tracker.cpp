@@ -65,6 +65,8 @@ std::string validateParams(const LineTrackerParams& p)
     err << "min_attributed_ratio must be in [0, 1); ";
   if (!(p.estimator.damping >= 0))
     err << "damping must be >= 0; ";
+  if (!(p.damping_partial_view >= 0))
+    err << "damping_partial_view must be >= 0; ";
   positive(p.estimator.huber_px, "huber_px");
   if (p.estimator.full_iterations < 1)
     err << "full_iterations must be >= 1; ";
@@ -404,6 +406,7 @@ void LineTracker::setPose(const CameraPose& pose)
 void LineTracker::startTracking(const CameraPose& pose)
 {
   pose_ = pose;
+  damping_ = params_.estimator.damping;
   x_accumulated_.setZero();
   projectSegments(true);
   last_projection_ = projected_;
@@ -509,7 +512,7 @@ void LineTracker::updatePose(int changed[2], int num_changed)
       relinearize(round_robin_);
     }
     Vector6d delta;
-    if (solveStep(equations_.data(), n, x_accumulated_, ep.damping, delta))
+    if (solveStep(equations_.data(), n, x_accumulated_, damping_, delta))
     {
       pose_.applyIncrement(delta);
       x_accumulated_ += delta;
@@ -522,7 +525,7 @@ void LineTracker::updatePose(int changed[2], int num_changed)
       for (int i = 0; i < n; ++i)
         relinearize(i);
       Vector6d delta;
-      if (!solveStep(equations_.data(), n, x_accumulated_, ep.damping, delta))
+      if (!solveStep(equations_.data(), n, x_accumulated_, damping_, delta))
         break;
       pose_.applyIncrement(delta);
       x_accumulated_ += delta;
@@ -558,6 +561,17 @@ double LineTracker::meanResidualPx() const
   return count > 0 ? sum / count : 0.0;
 }
 
+void LineTracker::updateDamping()
+{
+  // Part of the map outside the image (or behind the camera): fewer and shorter lines constrain
+  // the pose, so its weakly observable directions get the stronger damping.
+  bool partial = false;
+  const double w = camera_.width(), h = camera_.height();
+  for (const auto& s : projected_)
+    partial |= !s.in_front || clippedLength(s.a, s.b, -0.5, -0.5, w - 0.5, h - 0.5) < s.length - 1.0;
+  damping_ = partial ? std::max(params_.estimator.damping, params_.damping_partial_view) : params_.estimator.damping;
+}
+
 void LineTracker::checkQuality()
 {
   projectSegments(true);
@@ -570,6 +584,7 @@ void LineTracker::checkQuality()
   int visible = 0;
   for (const auto& s : projected_)
     visible += s.visible ? 1 : 0;
+  updateDamping();
   const double ratio = check_events_ > 0 ? static_cast<double>(check_attributed_) / check_events_ : 1.0;
   check_events_ = check_attributed_ = 0;
   if (!pose_.R_cam_world.allFinite() || !pose_.t_cam_world.allFinite())

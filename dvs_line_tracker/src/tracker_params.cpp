@@ -54,6 +54,7 @@ void forEachParam(LineTrackerParams& p, const std::function<void(const ParamRef&
   i("full_iterations", p.estimator.full_iterations, "");
   i("extra_relinearizations", p.estimator.extra_relinearizations, "");
   d("damping", p.estimator.damping, "");
+  d("damping_partial_view", p.damping_partial_view, "");
   d("huber_px", p.estimator.huber_px, "px");
   // Quality monitoring.
   i("quality_check_interval", p.quality_check_interval, "events");

@@ -51,6 +51,9 @@ struct LineTrackerParams
   /// normal, at the event) since they were inserted: buffers then span a bounded image motion,
   /// long when the edge is slow, short when fast. 0: off (thesis: count only).
   double buffer_motion_px = 0.5;
+  /// Damping while part of the map is outside the image (fewer, shorter lines constrain the
+  /// pose); `estimator.damping` otherwise. Updated at every quality check.
+  double damping_partial_view = 1.0;
   int buffer_size = 40;              ///< events per segment buffer (thesis: 8; with the motion bound, 40 measured most accurate, BENCHMARKS.md)
   int init_check_interval = 200;     ///< voted events between detection attempts while initialising
   double init_min_check_period_s = 0.005;  ///< and at least this much event time between attempts (bounds the CPU at high rates)
@@ -136,6 +139,7 @@ public:
 
 private:
   void checkQuality();
+  void updateDamping();
   void declareLost(const std::string& reason);
 
   dvs_calibration::CameraModel camera_;
@@ -167,6 +171,7 @@ private:
   std::vector<SegmentNormalEquations> equations_;
   EdgeRunModel edge_model_;
   Vector6d x_accumulated_ = Vector6d::Zero();
+  double damping_ = 0;  ///< in use: estimator.damping, or damping_partial_view while part of the map is out of view
   int round_robin_ = 0;
   uint64_t check_events_ = 0, check_attributed_ = 0;
   uint64_t updates_since_normalize_ = 0;
