@@ -132,8 +132,6 @@ LineTracker::LineTracker(const dvs_calibration::CameraModel& camera, const LineM
   last_projection_.resize(n);
 }
 
-
-
 void LineTracker::reset()
 {
   hough_.reset();
@@ -445,11 +443,15 @@ void LineTracker::projectSegments(bool update_visibility)
     if (!s.in_front)
     {
       s.visible = false;
+      s.visible_length = 0;
       continue;
     }
     s.set(k_.project(pc0), k_.project(pc1));
     if (update_visibility)
-      s.visible = clippedLength(s.a, s.b, -0.5, -0.5, w - 0.5, h - 0.5) >= params_.min_visible_length_px;
+    {
+      s.visible_length = clippedLength(s.a, s.b, -0.5, -0.5, w - 0.5, h - 0.5);
+      s.visible = s.visible_length >= params_.min_visible_length_px;
+    }
   }
 }
 
@@ -507,8 +509,7 @@ void LineTracker::updatePose(int changed[2], int num_changed)
     {
       round_robin_ = (round_robin_ + 1) % n;
       // Segments without events of their own lose their stale events here.
-      if (params_.buffer_motion_px > 0 && projected_[round_robin_].in_front)
-        buffers_[round_robin_].expire(projected_[round_robin_], params_.buffer_motion_px);
+      expireStaleEvents(round_robin_);
       relinearize(round_robin_);
     }
     Vector6d delta;
@@ -561,14 +562,20 @@ double LineTracker::meanResidualPx() const
   return count > 0 ? sum / count : 0.0;
 }
 
+void LineTracker::expireStaleEvents(int i)
+{
+  if (params_.buffer_motion_px > 0 && projected_[i].in_front)
+    buffers_[i].expire(projected_[i], params_.buffer_motion_px);
+}
+
 void LineTracker::updateDamping()
 {
   // Part of the map outside the image (or behind the camera): fewer and shorter lines constrain
-  // the pose, so its weakly observable directions get the stronger damping.
+  // the pose, so its weakly observable directions get the stronger damping. Uses the visible
+  // lengths of the last projectSegments(true).
   bool partial = false;
-  const double w = camera_.width(), h = camera_.height();
   for (const auto& s : projected_)
-    partial |= !s.in_front || clippedLength(s.a, s.b, -0.5, -0.5, w - 0.5, h - 0.5) < s.length - 1.0;
+    partial |= !s.in_front || s.visible_length < s.length - 1.0;
   damping_ = partial ? std::max(params_.estimator.damping, params_.damping_partial_view) : params_.estimator.damping;
 }
 
@@ -577,10 +584,8 @@ void LineTracker::checkQuality()
   projectSegments(true);
   // Segments that moved without producing events (e.g. an edge leaving the view) would keep
   // their stale events: drop them here too, not only when the segment receives an event.
-  if (params_.buffer_motion_px > 0)
-    for (size_t i = 0; i < buffers_.size(); ++i)
-      if (projected_[i].in_front)
-        buffers_[i].expire(projected_[i], params_.buffer_motion_px);
+  for (size_t i = 0; i < buffers_.size(); ++i)
+    expireStaleEvents(static_cast<int>(i));
   int visible = 0;
   for (const auto& s : projected_)
     visible += s.visible ? 1 : 0;

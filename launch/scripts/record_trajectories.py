@@ -78,30 +78,26 @@ def event_packet_info(raw):
     return secs + 1e-9 * nsecs, n
 
 
+def stamped_array_header(raw):
+    """(header stamp in s, element count, offset of the first element) of a serialised message
+    made of a std_msgs/Header and one array (geometry_msgs/PoseArray, nav_msgs/Path)."""
+    secs, nsecs, frame_len = struct.unpack_from("<III", raw, 4)
+    (n,) = struct.unpack_from("<I", raw, 16 + frame_len)
+    return secs + 1e-9 * nsecs, n, 20 + frame_len
+
+
 def posearray_last_pose(raw):
     """(stamp in s, number of poses, last pose (x y z qx qy qz qw) or None) of a serialised
     geometry_msgs/PoseArray (header, uint32 count, count x 7 float64)."""
-    secs, nsecs, frame_len = struct.unpack_from("<III", raw, 4)
-    off = 16 + frame_len
-    (n,) = struct.unpack_from("<I", raw, off)
-    last = struct.unpack_from("<7d", raw, off + 4 + 56 * (n - 1)) if n > 0 else None
-    return secs + 1e-9 * nsecs, n, last
-
-
-def path_header(raw):
-    """(header stamp in s, number of poses) of a serialised nav_msgs/Path."""
-    secs, nsecs, frame_len = struct.unpack_from("<III", raw, 4)
-    (n,) = struct.unpack_from("<I", raw, 16 + frame_len)
-    return secs + 1e-9 * nsecs, n
+    stamp, n, first = stamped_array_header(raw)
+    last = struct.unpack_from("<7d", raw, first + 56 * (n - 1)) if n > 0 else None
+    return stamp, n, last
 
 
 def path_poses(raw):
     """[(t, x, y, z, qx, qy, qz, qw)] of a serialised nav_msgs/Path (header, uint32 count, count x
     PoseStamped = header (seq, stamp, frame_id) + 7 float64), without deserialising messages."""
-    (frame_len,) = struct.unpack_from("<I", raw, 12)
-    off = 16 + frame_len
-    (n,) = struct.unpack_from("<I", raw, off)
-    off += 4
+    _, n, off = stamped_array_header(raw)
     rows = []
     unpack_stamp, unpack_pose = struct.Struct("<III").unpack_from, struct.Struct("<7d").unpack_from
     for _ in range(n):
@@ -175,7 +171,7 @@ class Recorder:
             # read the poses when writing (the callback stays short, so the latency measured here
             # is not that of this script's own backlog). The header stamp is the last pose's.
             received = rospy.get_rostime().to_sec()
-            stamp, n = path_header(raw._buff)
+            stamp, n, _ = stamped_array_header(raw._buff)
             with self.lock:
                 self.raw_paths.setdefault(id(sink), []).append(raw._buff)
                 if sink is self.est and n:

@@ -24,7 +24,7 @@
 // ln(rho) / C - 1/2. Runs complete only when a pixel's polarity changes, i.e. when the next edge
 // crosses it, which in slow motion takes long (the flip: ~0.5 s for the first 1000): until then
 // a prior C is used (events placed with the model from the start measured better than with the
-// constant offset, even with the prior 10 % off; BENCHMARKS.md).
+// constant offset, even with the prior 17 % off either way or 50 % too high; BENCHMARKS.md).
 //
 // Per event: five bytes of state per pixel and one expm1; nothing allocates.
 #include <cmath>

@@ -37,9 +37,9 @@ struct LineTrackerParams
   AttributionParams attribution;
   PoseEstimatorParams estimator;
   /// Edge position inside the firing pixel (edge_run_model.h): each attributed event is moved
-  /// from its pixel centre to where its index within the pixel's run of same-polarity events
-  /// puts the edge, towards the segment's bright side (learned online from event polarities and
-  /// the edge's normal motion). Off: the constant `edge_offset_px` (the mean of that offset; events
+  /// from its pixel centre to where the pixel's log level, integrated from its events, puts the
+  /// edge, towards the segment's bright side (learned online from event polarities and the
+  /// edge's normal motion). Off: the constant `edge_offset_px` (the mean of that offset; events
   /// of an edge lie on its dark side on average).
   bool edge_run_model = true;
   double contrast_threshold = 0;    ///< the sensor's contrast threshold C (log intensity); 0: learned from the run lengths
@@ -110,6 +110,8 @@ public:
   const LineMap& map() const { return map_; }
   const LineTrackerParams& params() const { return params_; }
   const PinholeK& intrinsics() const { return k_; }
+  /// Where events lie inside their pixels (threshold in use, learning statistics).
+  const EdgeRunModel& edgeModel() const { return edge_model_; }
   /// The image polygon of the last successful initialisation (ideal pixels).
   const ImagePolygon& lastInitPolygon() const { return init_polygon_; }
 
@@ -131,13 +133,11 @@ private:
   void projectSegments(bool update_visibility);
   void relinearize(int segment);
   void updatePose(int changed[2], int num_changed);
-  /// The event position corrected for the dark-side offset of segment `i` (updates its score).
+  /// The event position moved `edge_offset` px towards segment `i`'s learned bright side
+  /// (updates the dark-side evidence).
   Eigen::Vector2d edgeCorrected(const Eigen::Vector2d& p, bool polarity, int i, double edge_offset);
-
-public:
-  const EdgeRunModel& edgeModel() const { return edge_model_; }
-
-private:
+  /// Drop the buffered events of segment `i` its projection has moved away from (motion bound).
+  void expireStaleEvents(int i);
   void checkQuality();
   void updateDamping();
   void declareLost(const std::string& reason);

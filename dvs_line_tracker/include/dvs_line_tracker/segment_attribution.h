@@ -21,6 +21,7 @@ struct ProjectedSegment
   double length = 0;
   bool in_front = false;  ///< both endpoints in front of the camera
   bool visible = false;   ///< in front and at least the minimum length inside the image
+  double visible_length = 0;  ///< length inside the image (where the owner computes visibility)
 
   void set(const Eigen::Vector2d& pa, const Eigen::Vector2d& pb)
   {
