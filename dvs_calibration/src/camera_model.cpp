@@ -319,4 +319,28 @@ void saveCameraInfoYaml(const std::string& path, const CameraModel& camera, cons
   if (!out)
     throw CameraModelError(path + ": write failed");
 }
+bool isCameraInfoYamlPath(const std::string& path)
+{
+  auto ends = [&](const std::string& suffix) {
+    return path.size() >= suffix.size() && path.compare(path.size() - suffix.size(), suffix.size(), suffix) == 0;
+  };
+  return ends(".yaml") || ends(".yml");
+}
+
+CameraModel loadCameraFile(const std::string& path, int width, int height, std::string* camera_name)
+{
+  if (isCameraInfoYamlPath(path))
+  {
+    CameraModel camera = loadCameraInfoYaml(path, camera_name);
+    if ((width > 0 && width != camera.width()) || (height > 0 && height != camera.height()))
+      throw CameraModelError(path + ": the file says " + std::to_string(camera.width()) + "x" +
+                             std::to_string(camera.height()) + " pixels but " + std::to_string(width) + "x" +
+                             std::to_string(height) + " was given");
+    return camera;
+  }
+  if (width <= 0 || height <= 0)
+    throw CameraModelError(path + ": a calib.txt holds no sensor size: give the width and height (e.g. "
+                                  "--width 240 --height 180) or use a camera_info YAML");
+  return loadCalibTxt(path, width, height);
+}
 }  // namespace dvs_calibration

@@ -120,4 +120,13 @@ void saveCalibTxt(const std::string& path, const CameraModel& camera);
 /// rectification_matrix, projection_matrix).
 CameraModel loadCameraInfoYaml(const std::string& path, std::string* camera_name = nullptr);
 void saveCameraInfoYaml(const std::string& path, const CameraModel& camera, const std::string& camera_name);
+
+/// The suite's one rule for camera files: a `.yaml`/`.yml` file is a camera_info YAML (its size
+/// is in the file; a given width/height must agree with it), anything else a calib.txt, which
+/// has no size: width and height must then be given (> 0). Throws CameraModelError naming the
+/// file and the problem.
+CameraModel loadCameraFile(const std::string& path, int width = 0, int height = 0,
+                           std::string* camera_name = nullptr);
+/// True when loadCameraFile reads `path` as camera_info YAML (by its extension).
+bool isCameraInfoYamlPath(const std::string& path);
 }  // namespace dvs_calibration

@@ -1,0 +1,117 @@
+#include <dvs_calibration/trajectory_file.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+namespace dvs_calibration
+{
+namespace
+{
+bool parseNumbers(const std::string& line, double* values, int& count)
+{
+  // Accept whitespace and commas as separators.
+  count = 0;
+  const char* s = line.c_str();
+  while (*s)
+  {
+    while (*s == ' ' || *s == '\t' || *s == ',' || *s == '\r')
+      ++s;
+    if (!*s)
+      break;
+    char* end = nullptr;
+    const double v = std::strtod(s, &end);
+    if (end == s)
+      return false;
+    if (count < 8)
+      values[count] = v;
+    ++count;
+    s = end;
+  }
+  return true;
+}
+}  // namespace
+
+Trajectory readTumTrajectory(std::istream& in, const std::string& name, TimeOrder order)
+{
+  Trajectory poses;
+  std::string line;
+  int line_no = 0;
+  bool first_content_line = true;
+  while (std::getline(in, line))
+  {
+    ++line_no;
+    size_t start = line.find_first_not_of(" \t\r");
+    if (start == std::string::npos || line[start] == '#')
+      continue;
+    double v[8];
+    int count = 0;
+    const bool numeric = parseNumbers(line, v, count);
+    if (!numeric && first_content_line && line.find(',') != std::string::npos)
+    {
+      first_content_line = false;  // CSV header line
+      continue;
+    }
+    first_content_line = false;
+    const std::string where = name + ":" + std::to_string(line_no) + ": ";
+    if (!numeric)
+      throw TrajectoryFileError(where + "not a number in '" + line + "'");
+    if (count != 8)
+      throw TrajectoryFileError(where + "expected 8 values 't tx ty tz qx qy qz qw', got " + std::to_string(count));
+    for (double x : v)
+      if (!std::isfinite(x))
+        throw TrajectoryFileError(where + "non-finite value");
+    StampedPose sp;
+    sp.t = v[0];
+    Eigen::Quaterniond q(v[7], v[4], v[5], v[6]);
+    const double n = q.norm();
+    if (n < 0.5 || n > 1.5)
+      throw TrajectoryFileError(where + "quaternion norm " + std::to_string(n) + " is far from 1");
+    sp.T_world_camera = Pose::fromWorldCamera(q.normalized(), Eigen::Vector3d(v[1], v[2], v[3]));
+    const bool in_order = poses.empty() || sp.t > poses.back().t ||
+                          (order == TimeOrder::NonDecreasing && sp.t == poses.back().t);
+    if (!in_order)
+      throw TrajectoryFileError(where + "time " + std::to_string(sp.t) +
+                                (order == TimeOrder::NonDecreasing ? " goes backwards" : " does not increase") +
+                                " (previous " + std::to_string(poses.back().t) + ")");
+    poses.push_back(sp);
+  }
+  return poses;
+}
+
+Trajectory readTumTrajectory(const std::string& path, TimeOrder order)
+{
+  std::ifstream in(path);
+  if (!in)
+    throw TrajectoryFileError("cannot open trajectory file '" + path + "'");
+  return readTumTrajectory(in, path, order);
+}
+
+void writeTumTrajectory(std::ostream& out, const Trajectory& poses, const std::string& header)
+{
+  if (!header.empty())
+    out << "# " << header << "\n";
+  char buf[256];
+  for (const auto& sp : poses)
+  {
+    const Eigen::Vector3d p = sp.T_world_camera.p_world_camera();
+    const Eigen::Quaterniond q = sp.T_world_camera.q_world_camera();
+    std::snprintf(buf, sizeof(buf), "%.9f %.9f %.9f %.9f %.9f %.9f %.9f %.9f\n", sp.t, p.x(), p.y(), p.z(), q.x(),
+                  q.y(), q.z(), q.w());
+    out << buf;
+  }
+}
+
+void writeTumTrajectory(const std::string& path, const Trajectory& poses, const std::string& header)
+{
+  std::ofstream out(path);
+  if (!out)
+    throw TrajectoryFileError("cannot write trajectory file '" + path + "'");
+  writeTumTrajectory(out, poses, header);
+  out.flush();
+  if (!out)
+    throw TrajectoryFileError("error while writing trajectory file '" + path + "'");
+}
+}  // namespace dvs_calibration
