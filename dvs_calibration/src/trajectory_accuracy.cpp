@@ -46,6 +46,16 @@ AccuracyReport evaluateTrajectory(const Trajectory& estimates, const Trajectory&
   return r;
 }
 
+AccuracyReport evaluateTrajectory(const Trajectory& estimates, const Trajectory& ground_truth, double max_age_s,
+                                  double from_s, double to_s)
+{
+  AccuracyOptions o;
+  o.max_age_s = max_age_s;
+  o.from_s = from_s;
+  o.to_s = to_s;
+  return evaluateTrajectory(estimates, ground_truth, o);
+}
+
 std::string AccuracyReport::json() const
 {
   const double deg = 180.0 / M_PI;

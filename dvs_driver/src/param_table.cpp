@@ -166,6 +166,14 @@ ParamEntry& ParamTable::add(const std::string& name, std::string& field, const s
   return push(std::move(e));
 }
 
+void ParamTable::merge(const ParamTable& other)
+{
+  for (const auto& e : other.entries_)
+    push(e);
+  for (const auto& r : other.rules_)
+    rules_.push_back(r);
+}
+
 void ParamTable::addRule(std::function<std::string()> rule) { rules_.push_back(std::move(rule)); }
 
 ParamEntry* ParamTable::find(const std::string& name)

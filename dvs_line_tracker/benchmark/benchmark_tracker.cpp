@@ -5,7 +5,7 @@
 #include "frame_baseline.h"
 
 #include <dvs_line_tracker/line_tracker.h>
-#include <dvs_line_tracker/trajectory_evaluation.h>
+#include <dvs_calibration/trajectory_accuracy.h>
 #include <dvs_screen_sim/dataset.h>
 #include <dvs_screen_sim/sim_config.h>
 
@@ -30,7 +30,7 @@ struct Sequence
   std::string name;
   dvs_screen_sim::SimConfig config;
   dvs_screen_sim::SimulationOutput output;
-  std::vector<StampedPose> ground_truth;
+  dvs_calibration::Trajectory ground_truth;
 };
 
 Sequence simulate(const std::string& name, const std::string& scenario, const std::string& overrides)
@@ -40,7 +40,7 @@ Sequence simulate(const std::string& name, const std::string& scenario, const st
   s.config = dvs_screen_sim::resolveSimConfig(scenario, YAML::Load(overrides));
   s.output = dvs_screen_sim::runSimulation(s.config);
   for (const auto& g : s.output.groundtruth)
-    s.ground_truth.push_back({g.t, CameraPose::fromWorldCam(g.T_world_cam.R_world_cam(), g.T_world_cam.p)});
+    s.ground_truth.push_back({g.t, Pose::fromWorldCamera(g.T_world_cam.R_world_cam(), g.T_world_cam.p)});
   return s;
 }
 
@@ -69,7 +69,7 @@ double percentile(std::vector<double>& v, double q)
 
 struct RunResult
 {
-  AccuracyReport accuracy;
+  dvs_calibration::AccuracyReport accuracy;
   double events_per_second = 0;        // all events, initialisation included
   double tracking_events_per_second = 0;  // events after the first pose
   double attributed_ratio = 0;
@@ -79,7 +79,7 @@ struct RunResult
 RunResult runOnce(const Sequence& seq, const LineTrackerParams& params)
 {
   LineTracker tracker(seq.config.camera, defaultSquareMap(), params);
-  std::vector<StampedPose> estimates;
+  dvs_calibration::Trajectory estimates;
   estimates.reserve(seq.output.events.size());
   const auto& events = seq.output.events;
   size_t first_tracked = events.size();
@@ -99,7 +99,7 @@ RunResult runOnce(const Sequence& seq, const LineTrackerParams& params)
   }
   const double t1 = threadCpuSeconds();
   RunResult r;
-  r.accuracy = evaluateTrajectory(estimates, seq.ground_truth, 0.05);
+  r.accuracy = dvs_calibration::evaluateTrajectory(estimates, seq.ground_truth, 0.05);
   r.events_per_second = events.size() / std::max(1e-9, t1 - t0);
   r.tracking_events_per_second = (events.size() - first_tracked) / std::max(1e-9, t1 - t_first);
   r.attributed_ratio = static_cast<double>(tracker.stats().events_attributed) / events.size();
@@ -151,7 +151,7 @@ void report(const Sequence& seq, const char* label, const LineTrackerParams& par
 void reportBaseline(const Sequence& seq, double period_s)
 {
   const FrameBaselineResult b = runFrameBaseline(seq.output.events, seq.config.camera, defaultSquareMap(), period_s);
-  const AccuracyReport a = evaluateTrajectory(b.poses, seq.ground_truth, 2 * period_s + 1e-6);
+  const dvs_calibration::AccuracyReport a = dvs_calibration::evaluateTrajectory(b.poses, seq.ground_truth, 2 * period_s + 1e-6);
   std::vector<double> cpu = b.frame_cpu_s;
   const double p50 = percentile(cpu, 0.5) * 1e6, p99 = percentile(cpu, 0.99) * 1e6;
   // Latency of a pose with respect to the events it uses: half a frame on average plus the

@@ -9,7 +9,7 @@
 #include <dvs_line_tracker/line_map.h>
 #include <dvs_line_tracker/polygon_search.h>
 #include <dvs_line_tracker/pose_initializer.h>
-#include <dvs_line_tracker/trajectory_evaluation.h>
+#include <dvs_calibration/trajectory_accuracy.h>
 
 #include <chrono>
 #include <vector>
@@ -18,7 +18,7 @@ namespace dvs_line_tracker
 {
 struct FrameBaselineResult
 {
-  std::vector<StampedPose> poses;    ///< stamped with the frame's end time
+  dvs_calibration::Trajectory poses;    ///< stamped with the frame's end time
   std::vector<double> frame_cpu_s;   ///< processing time per frame
   int frames = 0, frames_with_pose = 0;
 };
@@ -59,7 +59,7 @@ inline FrameBaselineResult runFrameBaseline(const dvs_driver::EventVector& event
     ++result.frames;
     LineMap continuity = map;
     if (!result.poses.empty())
-      continuity.up_world = result.poses.back().pose.R_world_cam() * Eigen::Vector3d(0, -1, 0);
+      continuity.up_world = result.poses.back().T_world_camera.R_world_camera() * Eigen::Vector3d(0, -1, 0);
     for (const auto& poly : findPolygons(hough.detectSegments(), 4, PolygonSearchParams(), 4))
     {
       InitialPose init;

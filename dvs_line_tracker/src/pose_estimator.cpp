@@ -18,7 +18,7 @@ void projectWithJacobian(const PinholeK& k, const Eigen::Vector3d& p, Eigen::Vec
   J.rightCols<3>() = dpi;
 }
 
-bool linearizeSegment(const PinholeK& k, const CameraPose& pose, const Eigen::Vector3d& p0_world,
+bool linearizeSegment(const PinholeK& k, const Pose& pose, const Eigen::Vector3d& p0_world,
                       const Eigen::Vector3d& p1_world, const SegmentBuffer& buffer, SegmentNormalEquations& out)
 {
   out.H.setZero();

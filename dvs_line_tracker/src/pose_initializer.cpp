@@ -36,7 +36,7 @@ struct CornerReprojection
   PinholeK k_;
 };
 
-double upScore(const CameraPose& pose, const PinholeK& k, const std::vector<Eigen::Vector3d>& world,
+double upScore(const Pose& pose, const PinholeK& k, const std::vector<Eigen::Vector3d>& world,
                const Eigen::Vector3d& up)
 {
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();
@@ -56,7 +56,7 @@ double upScore(const CameraPose& pose, const PinholeK& k, const std::vector<Eige
 }
 }  // namespace
 
-double cornerReprojectionRms(const CameraPose& pose, const PinholeK& k, const std::vector<Eigen::Vector2d>& image,
+double cornerReprojectionRms(const Pose& pose, const PinholeK& k, const std::vector<Eigen::Vector2d>& image,
                              const std::vector<Eigen::Vector3d>& world)
 {
   double sum = 0;
@@ -70,16 +70,16 @@ double cornerReprojectionRms(const CameraPose& pose, const PinholeK& k, const st
   return std::sqrt(sum / static_cast<double>(image.size()));
 }
 
-CameraPose refinePoseReprojection(const CameraPose& initial, const PinholeK& k,
+Pose refinePoseReprojection(const Pose& initial, const PinholeK& k,
                                   const std::vector<Eigen::Vector2d>& image, const std::vector<Eigen::Vector3d>& world)
 {
   double aa[3], t[3];
-  const Eigen::AngleAxisd angle_axis(initial.R_cam_world);
+  const Eigen::AngleAxisd angle_axis(initial.R_camera_world);
   const Eigen::Vector3d aav = angle_axis.angle() * angle_axis.axis();
   for (int i = 0; i < 3; ++i)
   {
     aa[i] = aav[i];
-    t[i] = initial.t_cam_world[i];
+    t[i] = initial.t_camera_world[i];
   }
   ceres::Problem problem;
   for (size_t i = 0; i < image.size(); ++i)
@@ -92,12 +92,12 @@ CameraPose refinePoseReprojection(const CameraPose& initial, const PinholeK& k,
   options.logging_type = ceres::SILENT;
   ceres::Solver::Summary summary;
   ceres::Solve(options, &problem, &summary);
-  CameraPose out;
+  Pose out;
   const Eigen::Vector3d w(aa[0], aa[1], aa[2]);
-  out.R_cam_world = w.norm() > 1e-12 ? Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix()
+  out.R_camera_world = w.norm() > 1e-12 ? Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix()
                                      : Eigen::Matrix3d::Identity();
-  out.t_cam_world = Eigen::Vector3d(t[0], t[1], t[2]);
-  if (!out.R_cam_world.allFinite() || !out.t_cam_world.allFinite())
+  out.t_camera_world = Eigen::Vector3d(t[0], t[1], t[2]);
+  if (!out.R_camera_world.allFinite() || !out.t_camera_world.allFinite())
     return initial;
   return out;
 }
@@ -134,7 +134,7 @@ bool estimateInitialPose(const std::vector<Eigen::Vector2d>& corners_ideal_px, c
         }
         // IPPE for planar polygons; it degenerates (NaN) for exactly fronto-parallel views,
         // where SQPnP takes over.
-        CameraPose pose;
+        Pose pose;
         double rms = std::numeric_limits<double>::infinity();
         for (const int method : {cv::SOLVEPNP_IPPE, cv::SOLVEPNP_SQPNP})
         {
@@ -154,12 +154,12 @@ bool estimateInitialPose(const std::vector<Eigen::Vector2d>& corners_ideal_px, c
             continue;
           cv::Matx33d Rcv;
           cv::Rodrigues(rvec, Rcv);
-          CameraPose candidate;
+          Pose candidate;
           for (int r = 0; r < 3; ++r)
           {
             for (int c = 0; c < 3; ++c)
-              candidate.R_cam_world(r, c) = Rcv(r, c);
-            candidate.t_cam_world[r] = tvec[r];
+              candidate.R_camera_world(r, c) = Rcv(r, c);
+            candidate.t_camera_world[r] = tvec[r];
           }
           const double candidate_rms = cornerReprojectionRms(candidate, k, corners_ideal_px, world);
           if (candidate_rms < rms)
@@ -184,7 +184,7 @@ bool estimateInitialPose(const std::vector<Eigen::Vector2d>& corners_ideal_px, c
             centroid += poly.corners_world[i];
           }
           centroid /= n;
-          if (normal.dot(pose.positionWorld() - centroid) < 0)
+          if (normal.dot(pose.p_world_camera() - centroid) < 0)
             score -= 10.0;
         }
         const bool better = !found || score > best.up_score + 1e-6 ||
@@ -207,7 +207,7 @@ bool estimateInitialPose(const std::vector<Eigen::Vector2d>& corners_ideal_px, c
     std::vector<Eigen::Vector3d> world;
     for (int i = 0; i < n; ++i)
       world.push_back(map.polygons[best.polygon_index].corners_world[best.corner_assignment[i]]);
-    const CameraPose refined = refinePoseReprojection(best.pose, k, corners_ideal_px, world);
+    const Pose refined = refinePoseReprojection(best.pose, k, corners_ideal_px, world);
     const double rms = cornerReprojectionRms(refined, k, corners_ideal_px, world);
     if (rms <= best.reprojection_rms_px + 1e-9)
     {

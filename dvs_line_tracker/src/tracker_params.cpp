@@ -6,63 +6,121 @@
 
 namespace dvs_line_tracker
 {
-void forEachParam(LineTrackerParams& p, const std::function<void(const ParamRef&)>& visit)
+namespace
 {
-  auto d = [&](const char* name, double& v, const char* unit) { visit(ParamRef{name, &v, nullptr, nullptr, unit}); };
-  auto i = [&](const char* name, int& v, const char* unit) { visit(ParamRef{name, nullptr, &v, nullptr, unit}); };
-  auto b = [&](const char* name, bool& v) { visit(ParamRef{name, nullptr, nullptr, &v, ""}); };
+constexpr double kInf = 1e308;
+}  // namespace
+
+dvs_driver::ParamTable trackerParamTable(LineTrackerParams& p, std::string& solver_name)
+{
+  dvs_driver::ParamTable t("dvs_line_tracker");
+  auto positive = [&](const char* name, double& v, const char* unit, double max, const char* doc) {
+    t.add(name, v, unit, 0, max, doc).min_exclusive = true;
+  };
   // Initialisation (thesis 4.2.1).
-  d("hough_angle_bin_deg", p.hough.angle_bin_deg, "deg");
-  d("hough_radius_bin_px", p.hough.radius_bin_px, "px");
-  i("hough_threshold", p.hough.vote_threshold, "events");
-  d("hough_attribution_distance_px", p.hough.attribution_distance_px, "px");
-  d("segment_max_gap_px", p.hough.max_gap_px, "px");
-  d("segment_min_length_px", p.hough.min_segment_length_px, "px");
-  i("segment_min_events", p.hough.min_segment_events, "events");
-  i("init_window_events", p.hough.window_events, "events");
-  b("init_unique_pixels", p.hough.unique_pixels);
-  b("init_neighbour_filter", p.hough.neighbour_filter);
-  i("init_neighbour_filter_events", p.hough.neighbour_filter_events, "events");
-  i("init_neighbour_filter_min", p.hough.neighbour_filter_min, "pixels");
-  i("init_check_interval", p.init_check_interval, "events");
-  d("init_min_check_period", p.init_min_check_period_s, "s");
-  i("init_min_events", p.init_min_events, "events");
-  i("init_refine_events", p.init_refine_events, "events");
-  d("init_min_coverage", p.init_min_coverage, "");
-  d("init_border_margin_px", p.init_border_margin_px, "px");
-  d("init_max_inside_ratio", p.init_max_inside_ratio, "");
-  i("init_confirmations", p.init_confirmations, "");
-  d("init_confirm_position_ratio", p.init_confirm_position_ratio, "");
-  d("init_confirm_angle_deg", p.init_confirm_angle_deg, "deg");
-  d("polygon_min_angle_deg", p.polygon.min_turn_angle_deg, "deg");
-  d("polygon_max_angle_deg", p.polygon.max_turn_angle_deg, "deg");
-  d("polygon_corner_proximity_ratio", p.polygon.corner_proximity_ratio, "");
-  d("polygon_min_side_px", p.polygon.min_side_px, "px");
-  d("init_max_reprojection_px", p.init.max_reprojection_rms_px, "px");
-  b("init_refine", p.init.refine);
+  t.add("hough_angle_bin_deg", p.hough.angle_bin_deg, "deg", 0.1, 90, "Hough angle bin (thesis 7.5)");
+  t.add("hough_radius_bin_px", p.hough.radius_bin_px, "px", 0.1, 100, "Hough radius bin (thesis 2.5)");
+  t.add("hough_threshold", p.hough.vote_threshold, "events", 1, 1000000, "votes for a line candidate");
+  positive("hough_attribution_distance_px", p.hough.attribution_distance_px, "px", kInf,
+           "events this close belong to a candidate line");
+  positive("segment_max_gap_px", p.hough.max_gap_px, "px", kInf, "a larger gap splits a segment");
+  positive("segment_min_length_px", p.hough.min_segment_length_px, "px", kInf, "shorter segments are dropped");
+  t.add("segment_min_events", p.hough.min_segment_events, "events", 1, 1000000, "segments with fewer are dropped");
+  t.add("init_window_events", p.hough.window_events, "events", 1, 10000000, "latest events voting in the Hough space");
+  t.add("init_unique_pixels", p.hough.unique_pixels, "a pixel already in the window does not vote again");
+  t.add("init_neighbour_filter", p.hough.neighbour_filter, "vote only for events with neighbours that fired shortly before");
+  t.add("init_neighbour_filter_events", p.hough.neighbour_filter_events, "events", 1, 10000000,
+        "'shortly before': among this many latest events");
+  t.add("init_neighbour_filter_min", p.hough.neighbour_filter_min, "pixels", 1, 8, "neighbours that must have fired");
+  t.add("init_check_interval", p.init_check_interval, "events", 1, 10000000, "voted events between detection attempts");
+  t.add("init_min_check_period", p.init_min_check_period_s, "s", 0, 10, "and at least this much event time between attempts");
+  t.add("init_min_events", p.init_min_events, "events", 0, 10000000, "voted events before the first attempt");
+  t.add("init_refine_events", p.init_refine_events, "events", 0, 10000000,
+        "latest window events refining the initial pose (0: no refinement)");
+  t.add("init_min_coverage", p.init_min_coverage, "", 0, 1, "each visible side this much covered by window events");
+  t.add("init_border_margin_px", p.init_border_margin_px, "px", 0, 100, "segments and corners this close to the border are ignored");
+  t.add("init_max_inside_ratio", p.init_max_inside_ratio, "", 0, kInf, "events inside the polygon / events on its sides, at most");
+  t.add("init_confirmations", p.init_confirmations, "", 0, 4, "earlier agreeing detections (of the last 4) needed");
+  positive("init_confirm_position_ratio", p.init_confirm_position_ratio, "", kInf, "agreement: position difference / distance");
+  positive("init_confirm_angle_deg", p.init_confirm_angle_deg, "deg", 180, "agreement: orientation difference");
+  t.add("polygon_min_angle_deg", p.polygon.min_turn_angle_deg, "deg", 0, 180, "turn between neighbouring sides, at least");
+  t.add("polygon_max_angle_deg", p.polygon.max_turn_angle_deg, "deg", 0, 180, "turn between neighbouring sides, at most");
+  positive("polygon_corner_proximity_ratio", p.polygon.corner_proximity_ratio, "", kInf,
+           "endpoint distance limit, fraction of the side's length");
+  positive("polygon_min_side_px", p.polygon.min_side_px, "px", kInf, "shortest accepted side");
+  positive("init_max_reprojection_px", p.init.max_reprojection_rms_px, "px", kInf, "corner reprojection RMS, at most");
+  t.add("init_refine", p.init.refine, "Ceres refinement of the corners' reprojection error");
   // Tracking (thesis 4.2.2).
-  d("max_orthogonal_distance_px", p.attribution.max_orthogonal_px, "px");
-  d("max_parallel_distance_px", p.attribution.max_parallel_px, "px");
-  b("edge_run_model", p.edge_run_model);
-  d("contrast_threshold", p.contrast_threshold, "log intensity");
-  d("contrast_threshold_prior", p.contrast_threshold_prior, "log intensity");
-  i("contrast_learning_runs", p.contrast_learning_runs, "runs");
-  d("edge_contrast_ratio", p.edge_contrast_ratio, "");
-  d("edge_offset_px", p.edge_offset_px, "px");
-  d("buffer_motion_px", p.buffer_motion_px, "px");
-  i("buffer_size", p.buffer_size, "events");
-  i("full_iterations", p.estimator.full_iterations, "");
-  i("extra_relinearizations", p.estimator.extra_relinearizations, "");
-  d("damping", p.estimator.damping, "");
-  d("damping_partial_view", p.damping_partial_view, "");
-  d("huber_px", p.estimator.huber_px, "px");
+  positive("max_orthogonal_distance_px", p.attribution.max_orthogonal_px, "px", kInf, "attribution distance to a segment (thesis 2)");
+  t.add("max_parallel_distance_px", p.attribution.max_parallel_px, "px", 0, kInf, "beyond a segment's ends (thesis 10)");
+  t.add("edge_run_model", p.edge_run_model, "place events where the pixel's integrated log level puts the edge");
+  t.add("contrast_threshold", p.contrast_threshold, "log intensity", 0, 2, "the sensor's C (0: learned)");
+  t.add("contrast_threshold_prior", p.contrast_threshold_prior, "log intensity", 0, 2,
+        "C until it is learned (0: the constant offset until then)");
+  t.add("contrast_learning_runs", p.contrast_learning_runs, "runs", 1, 100000000, "completed runs before the learned C is used");
+  t.add("edge_contrast_ratio", p.edge_contrast_ratio, "", 1, 1e6, "bright / dark intensity across the edges").min_exclusive = true;
+  t.add("edge_offset_px", p.edge_offset_px, "px", 0, kInf, "constant offset towards the bright side (no run model)");
+  t.add("buffer_motion_px", p.buffer_motion_px, "px", 0, kInf, "buffered events dropped once their segment moved this far (0: off)");
+  t.add("buffer_size", p.buffer_size, "events", 2, 1024, "events per segment buffer (thesis 8)");
+  t.add("full_iterations", p.estimator.full_iterations, "", 1, 100, "Gauss-Newton iterations per event (solver full)");
+  t.add("extra_relinearizations", p.estimator.extra_relinearizations, "", 0, 1000,
+        "segments re-linearised round robin per event (solver incremental)");
+  t.add("damping", p.estimator.damping, "", 0, kInf, "Marquardt damping, relative to the diagonal");
+  t.add("damping_partial_view", p.damping_partial_view, "", 0, kInf, "damping while part of the map is out of view");
+  positive("huber_px", p.estimator.huber_px, "px", kInf, "Huber threshold of the residuals");
+  t.add("solver", solver_name, {"incremental", "full"}, "one step per event on cached normal equations, or full Gauss-Newton");
   // Quality monitoring.
-  i("quality_check_interval", p.quality_check_interval, "events");
-  i("min_visible_segments", p.min_visible_segments, "");
-  d("min_visible_length_px", p.min_visible_length_px, "px");
-  d("max_mean_residual_px", p.max_mean_residual_px, "px");
-  d("min_attributed_ratio", p.min_attributed_ratio, "");
-  d("min_depth", p.min_depth_m, "m");
+  t.add("quality_check_interval", p.quality_check_interval, "events", 1, 100000000, "events between quality checks");
+  t.add("min_visible_segments", p.min_visible_segments, "", 2, 1000, "fewer visible segments: lost (6-DoF needs 3 lines)");
+  t.add("min_visible_length_px", p.min_visible_length_px, "px", 0, kInf, "a segment is visible with this much inside the image");
+  positive("max_mean_residual_px", p.max_mean_residual_px, "px", kInf, "mean residual above this: lost");
+  t.add("min_attributed_ratio", p.min_attributed_ratio, "", 0, 1, "attributed / all events below this: lost");
+  positive("min_depth", p.min_depth_m, "m", kInf, "map points closer (or behind): lost");
+  // Rules across parameters.
+  t.addRule([&p]() -> std::string {
+    return p.polygon.min_turn_angle_deg < p.polygon.max_turn_angle_deg
+               ? ""
+               : "polygon_min_angle_deg must be < polygon_max_angle_deg";
+  });
+  t.addRule([&p]() -> std::string {
+    return p.edge_offset_px < p.attribution.max_orthogonal_px
+               ? ""
+               : "edge_offset_px must be < max_orthogonal_distance_px (got " + std::to_string(p.edge_offset_px) + ")";
+  });
+  t.addRule([&p]() -> std::string { return p.min_attributed_ratio < 1 ? "" : "min_attributed_ratio must be < 1"; });
+  return t;
+}
+
+dvs_driver::ParamTable nodeParamTable(TrackerNodeSettings& n)
+{
+  dvs_driver::ParamTable t("dvs_line_tracker");
+  t.add("map_file", n.map_file, {}, "line map YAML (empty: the 0.9 m square in the plane z = 0)");
+  t.add("calibration_file", n.calibration_file, {},
+        "calib.txt (`fx fy cx cy k1 k2 p1 p2 k3`) or camera_info YAML (`.yaml`); empty: wait for `dvs/camera_info`");
+  t.add("width", n.width, "px", 1, 100000, "sensor width for a calib.txt (a YAML has its own)");
+  t.add("height", n.height, "px", 1, 100000, "sensor height for a calib.txt");
+  t.add("world_frame", n.world_frame, {}, "frame of the map, poses and markers");
+  t.add("camera_frame", n.camera_frame, {}, "frame of the estimated camera (TF child)");
+  t.add("publish_per_event_poses", n.publish_per_event_poses, "publish `~pose` per pose update (when subscribed)");
+  t.add("image_rate", n.image_rate_hz, "Hz", 0, 1000, "`~image` rate limit").min_exclusive = true;
+  t.add("marker_rate", n.marker_rate_hz, "Hz", 0, 1000, "`~markers` rate limit").min_exclusive = true;
+  t.addRule([&n]() -> std::string {
+    return n.world_frame.empty() || n.camera_frame.empty() ? "world_frame and camera_frame must not be empty" : "";
+  });
+  return t;
+}
+
+void applySolverName(const std::string& solver_name, LineTrackerParams& params)
+{
+  if (!parseSolverType(solver_name, params.estimator.solver))
+    throw std::invalid_argument("dvs_line_tracker: solver must be 'incremental' or 'full' (got '" + solver_name + "')");
+}
+
+std::string validateParams(const LineTrackerParams& params)
+{
+  LineTrackerParams copy = params;
+  std::string solver = solverTypeName(params.estimator.solver);
+  return trackerParamTable(copy, solver).validate();
 }
 
 bool parseSolverType(const std::string& name, SolverType& type)
@@ -83,52 +141,12 @@ const char* solverTypeName(SolverType type)
 
 void loadTrackerParamsYaml(const std::string& path, LineTrackerParams& params)
 {
-  YAML::Node root;
-  try
-  {
-    root = YAML::LoadFile(path);
-  }
-  catch (const YAML::Exception& e)
-  {
-    throw std::runtime_error("cannot read parameter file '" + path + "': " + e.what());
-  }
-  if (root.IsNull())
-    return;
-  if (!root.IsMap())
-    throw std::runtime_error(path + ": expected a mapping of parameter names to values");
-  for (const auto& kv : root)
-  {
-    const std::string key = kv.first.as<std::string>();
-    if (key == "solver")
-    {
-      if (!parseSolverType(kv.second.as<std::string>(), params.estimator.solver))
-        throw std::runtime_error(path + ": solver must be 'incremental' or 'full'");
-      continue;
-    }
-    bool found = false;
-    forEachParam(params, [&](const ParamRef& r) {
-      if (key != r.name)
-        return;
-      found = true;
-      try
-      {
-        if (r.d)
-          *r.d = kv.second.as<double>();
-        else if (r.i)
-          *r.i = kv.second.as<int>();
-        else
-          *r.b = kv.second.as<bool>();
-      }
-      catch (const YAML::Exception&)
-      {
-        throw std::runtime_error(path + ": parameter '" + key + "' has the wrong type");
-      }
-    });
-    if (!found)
-      throw std::runtime_error(path + ": unknown parameter '" + key + "'");
-  }
-  const std::string err = validateParams(params);
+  std::string solver = solverTypeName(params.estimator.solver);
+  dvs_driver::ParamTable table = trackerParamTable(params, solver);
+  table.loadYaml(path);
+  const std::string err = table.validate();
   if (!err.empty())
     throw std::runtime_error(path + ": " + err);
+  applySolverName(solver, params);
 }
 }  // namespace dvs_line_tracker

@@ -1,7 +1,7 @@
 // Polygon search on synthetic segments and exact pose from noise-free corners.
 #include <dvs_line_tracker/polygon_search.h>
 #include <dvs_line_tracker/pose_initializer.h>
-#include <dvs_line_tracker/synthetic_events.h>
+#include "synthetic_events.h"
 
 #include <gtest/gtest.h>
 
@@ -29,7 +29,7 @@ std::vector<ImageSegment> sidesOf(const std::vector<Eigen::Vector2d>& corners, d
   return out;
 }
 
-std::vector<Eigen::Vector2d> projectCorners(const LineMap& map, const CameraPose& pose)
+std::vector<Eigen::Vector2d> projectCorners(const LineMap& map, const Pose& pose)
 {
   std::vector<Eigen::Vector2d> c;
   for (const auto& p : map.polygons[0].corners_world)
@@ -117,7 +117,7 @@ TEST(PoseInit, ExactPoseFromNoiseFreeCornersInAnyOrderAndRoll)
   const LineMap map = defaultSquareMap();
   for (double roll_deg : {-40.0, -10.0, 0.0, 25.0, 44.0})
   {
-    const CameraPose truth = lookAt({0.3, -0.2, 1.7}, {0.05, 0.02, 0}, {0, 1, 0}, roll_deg * M_PI / 180);
+    const Pose truth = lookAt({0.3, -0.2, 1.7}, {0.05, 0.02, 0}, {0, 1, 0}, roll_deg * M_PI / 180);
     auto corners = projectCorners(map, truth);
     // The image order starts anywhere and runs either way.
     std::rotate(corners.begin(), corners.begin() + 2, corners.end());
@@ -140,8 +140,8 @@ TEST(PoseInit, UpHintResolvesTheSquareSymmetry)
   // Rolled by 80 deg: the corners are the same as for -10 deg with another assignment; with
   // up = +y the tracker picks the roll within +-45 deg.
   const LineMap map = defaultSquareMap();
-  const CameraPose rolled = lookAt({0, 0, 1.5}, {0, 0, 0}, {0, 1, 0}, 80 * M_PI / 180);
-  const CameraPose expected = lookAt({0, 0, 1.5}, {0, 0, 0}, {0, 1, 0}, -10 * M_PI / 180);
+  const Pose rolled = lookAt({0, 0, 1.5}, {0, 0, 0}, {0, 1, 0}, 80 * M_PI / 180);
+  const Pose expected = lookAt({0, 0, 1.5}, {0, 0, 0}, {0, 1, 0}, -10 * M_PI / 180);
   InitialPose init;
   ASSERT_TRUE(estimateInitialPose(projectCorners(map, rolled), map, kK, PoseInitParams(), init));
   EXPECT_LT(orientationError(init.pose, expected), 1e-6);
@@ -156,7 +156,7 @@ TEST(PoseInit, UpHintResolvesTheSquareSymmetry)
 TEST(PoseInit, NoisyCornersGiveACloseRefinedPose)
 {
   const LineMap map = defaultSquareMap();
-  const CameraPose truth = lookAt({0.2, 0.1, 1.2}, {0, 0, 0}, {0, 1, 0}, 0.2);
+  const Pose truth = lookAt({0.2, 0.1, 1.2}, {0, 0, 0}, {0, 1, 0}, 0.2);
   auto corners = projectCorners(map, truth);
   const Eigen::Vector2d noise[4] = {{0.3, -0.2}, {-0.25, 0.3}, {0.2, 0.2}, {-0.3, -0.3}};
   for (int i = 0; i < 4; ++i)

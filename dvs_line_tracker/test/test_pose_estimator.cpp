@@ -1,7 +1,7 @@
 // Known answers for the per-event pose estimator: analytic Jacobians against numerical ones,
 // and convergence to the true pose from exact points on the projected segments.
 #include <dvs_line_tracker/pose_estimator.h>
-#include <dvs_line_tracker/synthetic_events.h>
+#include "synthetic_events.h"
 
 #include <gtest/gtest.h>
 
@@ -11,7 +11,7 @@ namespace
 {
 PinholeK dvs128K() { return PinholeK{115, 115, 63.5, 63.5}; }
 
-std::vector<SegmentBuffer> exactBuffers(const LineMap& map, const CameraPose& pose, const PinholeK& k, int n)
+std::vector<SegmentBuffer> exactBuffers(const LineMap& map, const Pose& pose, const PinholeK& k, int n)
 {
   std::vector<SegmentBuffer> buffers;
   for (const auto& s : map.segments)
@@ -34,7 +34,7 @@ std::vector<SegmentBuffer> exactBuffers(const LineMap& map, const CameraPose& po
 TEST(PoseEstimator, ProjectionJacobianMatchesNumerical)
 {
   const PinholeK k = dvs128K();
-  const CameraPose pose = lookAt({0.2, -0.1, 1.5}, {0, 0, 0}, {0, 1, 0}, 0.3);
+  const Pose pose = lookAt({0.2, -0.1, 1.5}, {0, 0, 0}, {0, 1, 0}, 0.3);
   const Eigen::Vector3d p_world(0.3, 0.4, 0.05);
   Eigen::Vector2d px;
   Matrix26d J;
@@ -43,9 +43,9 @@ TEST(PoseEstimator, ProjectionJacobianMatchesNumerical)
   {
     Vector6d delta = Vector6d::Zero();
     delta[d] = 1e-6;
-    CameraPose plus = pose, minus = pose;
-    plus.applyIncrement(delta);
-    minus.applyIncrement(-delta);
+    Pose plus = pose, minus = pose;
+    plus.applyCameraIncrement(delta);
+    minus.applyCameraIncrement(-delta);
     const Eigen::Vector2d num = (k.project(plus.toCamera(p_world)) - k.project(minus.toCamera(p_world))) / 2e-6;
     EXPECT_NEAR(num.x(), J(0, d), 1e-4 * (1 + std::abs(num.x())));
     EXPECT_NEAR(num.y(), J(1, d), 1e-4 * (1 + std::abs(num.y())));
@@ -56,15 +56,15 @@ TEST(PoseEstimator, SegmentGradientMatchesNumericalCost)
 {
   const PinholeK k = dvs128K();
   const LineMap map = defaultSquareMap();
-  const CameraPose truth = lookAt({0.1, 0.05, 1.6}, {0, 0, 0}, {0, 1, 0}, 0.2);
+  const Pose truth = lookAt({0.1, 0.05, 1.6}, {0, 0, 0}, {0, 1, 0}, 0.2);
   auto buffers = exactBuffers(map, truth, k, 8);
-  CameraPose pose = truth;
+  Pose pose = truth;
   Vector6d off;
   off << 0.01, -0.02, 0.015, 0.02, -0.01, 0.03;
-  pose.applyIncrement(off);
+  pose.applyCameraIncrement(off);
   SegmentNormalEquations eq;
   ASSERT_TRUE(linearizeSegment(k, pose, map.segments[1].p0_world, map.segments[1].p1_world, buffers[1], eq));
-  auto cost = [&](const CameraPose& p) {
+  auto cost = [&](const Pose& p) {
     SegmentNormalEquations e;
     linearizeSegment(k, p, map.segments[1].p0_world, map.segments[1].p1_world, buffers[1], e);
     return 0.5 * e.sum_sq;
@@ -73,9 +73,9 @@ TEST(PoseEstimator, SegmentGradientMatchesNumericalCost)
   {
     Vector6d delta = Vector6d::Zero();
     delta[d] = 1e-7;
-    CameraPose plus = pose, minus = pose;
-    plus.applyIncrement(delta);
-    minus.applyIncrement(-delta);
+    Pose plus = pose, minus = pose;
+    plus.applyCameraIncrement(delta);
+    minus.applyCameraIncrement(-delta);
     const double num = (cost(plus) - cost(minus)) / 2e-7;
     EXPECT_NEAR(num, eq.g[d], 1e-3 * (1 + std::abs(num))) << "dimension " << d;
   }
@@ -85,12 +85,12 @@ TEST(PoseEstimator, GaussNewtonConvergesToTruthFromExactPoints)
 {
   const PinholeK k = dvs128K();
   const LineMap map = defaultSquareMap();
-  const CameraPose truth = lookAt({0.1, 0.05, 1.6}, {0, 0, 0}, {0, 1, 0}, 0.2);
+  const Pose truth = lookAt({0.1, 0.05, 1.6}, {0, 0, 0}, {0, 1, 0}, 0.2);
   auto buffers = exactBuffers(map, truth, k, 8);
-  CameraPose pose = truth;
+  Pose pose = truth;
   Vector6d off;
   off << 0.01, -0.02, 0.015, 0.02, -0.01, 0.03;
-  pose.applyIncrement(off);
+  pose.applyCameraIncrement(off);
   Vector6d x = Vector6d::Zero();
   std::vector<SegmentNormalEquations> eqs(4);
   for (int it = 0; it < 10; ++it)
@@ -103,7 +103,7 @@ TEST(PoseEstimator, GaussNewtonConvergesToTruthFromExactPoints)
     }
     Vector6d delta;
     ASSERT_TRUE(solveStep(eqs.data(), 4, x, 1e-6, delta));
-    pose.applyIncrement(delta);
+    pose.applyCameraIncrement(delta);
     x += delta;
   }
   EXPECT_LT(positionError(pose, truth), 1e-6);

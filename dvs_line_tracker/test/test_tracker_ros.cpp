@@ -3,7 +3,7 @@
 // the diagnostics.
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <dvs_driver/event_bag_io.h>
-#include <dvs_line_tracker/camera_pose.h>
+#include <dvs_line_tracker/pose_types.h>
 #include <dvs_screen_sim/dataset.h>
 #include <dvs_screen_sim/sim_config.h>
 #include <nav_msgs/Path.h>

@@ -2,7 +2,7 @@
 // Shared helpers of the end-to-end tests: run the tracker over an event sequence and measure
 // it against ground truth.
 #include <dvs_line_tracker/line_tracker.h>
-#include <dvs_line_tracker/trajectory_evaluation.h>
+#include <dvs_calibration/trajectory_accuracy.h>
 
 #include <string>
 #include <vector>
@@ -11,12 +11,12 @@ namespace dvs_line_tracker
 {
 struct TrackingRun
 {
-  std::vector<StampedPose> estimates;  ///< one per pose update
+  dvs_calibration::Trajectory estimates;  ///< one per pose update
   std::vector<std::pair<double, TrackerState>> transitions;  ///< state changes (time, new state)
   std::vector<std::string> loss_reasons;
   TrackerStats stats;
   TrackerState final_state = TrackerState::kInitializing;
-  CameraPose final_pose;
+  Pose final_pose;
 };
 
 inline TrackingRun runTracker(LineTracker& tracker, const dvs_driver::EventVector& events)

@@ -11,6 +11,8 @@
 #include <dvs_line_tracker/tracker_params.h>
 
 #include <algorithm>
+#include <cerrno>
+#include <cstdlib>
 #include <chrono>
 #include <cstdio>
 #include <iostream>
@@ -28,7 +30,8 @@ void usage()
                "                     [--width 128 --height 128] [--map map.yaml] --out trajectory.txt\n"
                "                     [--params params.yaml] [--solver incremental|full] [--buffer-size N]\n"
                "Writes TUM lines 't tx ty tz qx qy qz qw' (T_world_camera) per pose update and prints a JSON\n"
-               "summary. Without --map the thesis's 0.9 m square (plane z=0, up +y) is tracked.\n";
+               "summary. Without --map the thesis's 0.9 m square (plane z=0, up +y) is tracked.\n"
+               "track_offline --list-params prints every parameter (name, default, unit, range, meaning).\n";
 }
 
 // Exact decimal seconds with nanosecond resolution.
@@ -52,6 +55,17 @@ struct Args
     return it == kv.end() ? def : it->second;
   }
 };
+
+/// A positive whole number for option `name`, or an error naming the option and the value.
+int parseSize(const std::string& text, const char* name)
+{
+  char* end = nullptr;
+  errno = 0;
+  const long v = std::strtol(text.c_str(), &end, 10);
+  if (text.empty() || end != text.c_str() + text.size() || errno != 0 || v <= 0 || v > 100000)
+    throw std::runtime_error(std::string(name) + " must be a whole number in [1, 100000] (got '" + text + "')");
+  return static_cast<int>(v);
+}
 }  // namespace
 
 int main(int argc, char** argv)
@@ -63,6 +77,15 @@ int main(int argc, char** argv)
     if (a == "-h" || a == "--help")
     {
       usage();
+      return 0;
+    }
+    if (a == "--list-params")
+    {
+      // The README's tables: the tracker's parameters (YAML --params and ROS ~name) and the node's.
+      LineTrackerParams params;
+      std::string solver = solverTypeName(params.estimator.solver);
+      TrackerNodeSettings node;
+      std::cout << trackerParamTable(params, solver).markdownTable() << "\n" << nodeParamTable(node).markdownTable();
       return 0;
     }
     if (a.rfind("--", 0) != 0 || i + 1 >= argc)
@@ -100,21 +123,32 @@ int main(int argc, char** argv)
     else
       stream = dvs_driver::readAedat(args.get("aedat")).stream;
 
-    int width = 128, height = 128;
+    // The sensor size: from the recording when it says, else --width/--height, else a
+    // camera_info YAML; a calib.txt has none, so without any of these the DVS128's 128x128 is
+    // assumed (and said). Events outside the size are counted and reported, never silent.
+    int width = 0, height = 0;
     if (stream.width > 0 && stream.height > 0)
     {
       width = static_cast<int>(stream.width);
       height = static_cast<int>(stream.height);
     }
     if (args.has("width"))
-      width = std::stoi(args.get("width"));
+      width = parseSize(args.get("width"), "--width");
     if (args.has("height"))
-      height = std::stoi(args.get("height"));
+      height = parseSize(args.get("height"), "--height");
     dvs_calibration::CameraModel camera;
-    if (args.has("calib"))
-      camera = dvs_calibration::loadCalibTxt(args.get("calib"), width, height);
-    else if (args.has("camera-info"))
-      camera = dvs_calibration::loadCameraInfoYaml(args.get("camera-info"));
+    if (args.has("calib") || args.has("camera-info"))
+    {
+      const std::string file = args.has("calib") ? args.get("calib") : args.get("camera-info");
+      if (!dvs_calibration::isCameraInfoYamlPath(file) && (width <= 0 || height <= 0))
+      {
+        width = width > 0 ? width : 128;
+        height = height > 0 ? height : 128;
+        std::cerr << "track_offline: " << file << " and the events give no sensor size: assuming " << width << "x"
+                  << height << " (DVS128; give --width/--height otherwise)\n";
+      }
+      camera = dvs_calibration::loadCameraFile(file, width, height);
+    }
     else if (args.has("preset"))
       camera = dvs_calibration::CameraModel::preset(args.get("preset"));
     else
@@ -127,7 +161,7 @@ int main(int argc, char** argv)
     if (args.has("solver") && !parseSolverType(args.get("solver"), params.estimator.solver))
       throw std::runtime_error("--solver must be 'incremental' or 'full'");
     if (args.has("buffer-size"))
-      params.buffer_size = std::stoi(args.get("buffer-size"));
+      params.buffer_size = parseSize(args.get("buffer-size"), "--buffer-size");
 
     FILE* out = std::fopen(args.get("out").c_str(), "w");
     if (!out)
@@ -137,7 +171,7 @@ int main(int argc, char** argv)
     struct Stamped
     {
       int64_t t_ns;
-      CameraPose pose;
+      Pose pose;
     };
     std::vector<Stamped> poses;
     poses.reserve(stream.events.size() + 1);
@@ -150,8 +184,8 @@ int main(int argc, char** argv)
     std::fprintf(out, "# t tx ty tz qx qy qz qw (T_world_camera, TUM), dvs_line_tracker\n");
     for (const auto& s : poses)
     {
-      const Eigen::Vector3d p = s.pose.positionWorld();
-      const Eigen::Quaterniond q = s.pose.q_world_cam();
+      const Eigen::Vector3d p = s.pose.p_world_camera();
+      const Eigen::Quaterniond q = s.pose.q_world_camera();
       std::fprintf(out, "%s %.6f %.6f %.6f %.7f %.7f %.7f %.7f\n", formatSeconds(s.t_ns).c_str(), p.x(), p.y(), p.z(),
                    q.x(), q.y(), q.z(), q.w());
     }
@@ -160,14 +194,19 @@ int main(int argc, char** argv)
       throw std::runtime_error("error writing '" + args.get("out") + "'");
 
     const auto& st = tracker.stats();
+    if (st.events_outside_sensor > 0)
+      std::cerr << "track_offline: warning: " << st.events_outside_sensor << " events lie outside the "
+                << camera.width() << "x" << camera.height()
+                << " sensor and were not used (wrong --width/--height or calibration?)\n";
     std::printf(
         "{\"events_read\": %zu, \"events_attributed\": %llu, \"pose_updates\": %llu, \"initializations\": %llu, "
-        "\"reinitializations\": %llu, \"losses\": %llu, \"final_state\": \"%s\", \"processing_seconds\": %.6f, "
+        "\"reinitializations\": %llu, \"losses\": %llu, \"events_outside_sensor\": %llu, \"final_state\": \"%s\", "
+        "\"processing_seconds\": %.6f, "
         "\"events_per_second\": %.0f}\n",
         stream.events.size(), static_cast<unsigned long long>(st.events_attributed),
         static_cast<unsigned long long>(st.pose_updates), static_cast<unsigned long long>(st.initializations),
         static_cast<unsigned long long>(st.reinitializations), static_cast<unsigned long long>(st.losses),
-        toString(tracker.state()), seconds, seconds > 0 ? stream.events.size() / seconds : 0.0);
+        static_cast<unsigned long long>(st.events_outside_sensor), toString(tracker.state()), seconds, seconds > 0 ? stream.events.size() / seconds : 0.0);
     return 0;
   }
   catch (const std::exception& e)

@@ -38,4 +38,7 @@ struct AccuracyReport
 /// `estimates` and `ground_truth` sorted by time (non-decreasing).
 AccuracyReport evaluateTrajectory(const Trajectory& estimates, const Trajectory& ground_truth,
                                   const AccuracyOptions& options = AccuracyOptions());
+/// The same with the default error bounds and the given age limit and time range.
+AccuracyReport evaluateTrajectory(const Trajectory& estimates, const Trajectory& ground_truth, double max_age_s,
+                                  double from_s = -1e300, double to_s = 1e300);
 }  // namespace dvs_calibration

@@ -45,6 +45,8 @@ public:
   ParamEntry& add(const std::string& name, bool& field, const std::string& doc);
   ParamEntry& add(const std::string& name, std::string& field, const std::vector<std::string>& choices,
                   const std::string& doc);
+  /// Append every entry and rule of `other` (names must not repeat: std::logic_error).
+  void merge(const ParamTable& other);
   /// A cross-parameter rule: returns "" when fine, else the message (naming the parameters).
   void addRule(std::function<std::string()> rule);
 

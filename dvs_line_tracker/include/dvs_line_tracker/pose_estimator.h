@@ -10,7 +10,7 @@
 // x the accumulated increments), and one damped Gauss-Newton step is taken. Per event this
 // costs two segment linearisations and one 6x6 solve, and allocates nothing.
 // Full solver (for comparison): re-linearise all segments and iterate Gauss-Newton.
-#include <dvs_line_tracker/camera_pose.h>
+#include <dvs_line_tracker/pose_types.h>
 #include <dvs_line_tracker/pose_initializer.h>
 #include <dvs_line_tracker/segment_attribution.h>
 
@@ -50,7 +50,7 @@ void projectWithJacobian(const PinholeK& k, const Eigen::Vector3d& p_cam, Eigen:
 /// buffer's weighted moments (O(1), whatever the buffer size; the Huber weights were fixed when
 /// the points were inserted, stale points are removed by the buffer's motion bound). Returns
 /// false when the segment is behind the camera, degenerate, or has fewer than 2 points.
-bool linearizeSegment(const PinholeK& k, const CameraPose& pose, const Eigen::Vector3d& p0_world,
+bool linearizeSegment(const PinholeK& k, const Pose& pose, const Eigen::Vector3d& p0_world,
                       const Eigen::Vector3d& p1_world, const SegmentBuffer& buffer, SegmentNormalEquations& out);
 
 /// Solve the damped normal equations of the active segments at the accumulated increment

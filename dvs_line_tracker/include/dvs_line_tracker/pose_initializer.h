@@ -6,7 +6,7 @@
 // one whose projected map "up" points most nearly up in the image wins (this resolves the
 // symmetry of a square: roll about the optical axis within +-45 deg); the winner is refined by
 // minimising the corners' reprojection error with Ceres.
-#include <dvs_line_tracker/camera_pose.h>
+#include <dvs_line_tracker/pose_types.h>
 #include <dvs_line_tracker/line_map.h>
 
 #include <Eigen/Core>
@@ -34,7 +34,7 @@ struct PoseInitParams
 
 struct InitialPose
 {
-  CameraPose pose;
+  Pose pose;
   double reprojection_rms_px = 0;  ///< after refinement
   double up_score = 0;             ///< cosine between projected map up and image up (-y)
   int polygon_index = -1;          ///< the map polygon used
@@ -42,7 +42,7 @@ struct InitialPose
 };
 
 /// Corners' reprojection RMS (px) of `pose`.
-double cornerReprojectionRms(const CameraPose& pose, const PinholeK& k, const std::vector<Eigen::Vector2d>& image,
+double cornerReprojectionRms(const Pose& pose, const PinholeK& k, const std::vector<Eigen::Vector2d>& image,
                              const std::vector<Eigen::Vector3d>& world);
 
 /// Returns false when no assignment of the image corners to any map polygon with the same
@@ -51,6 +51,6 @@ bool estimateInitialPose(const std::vector<Eigen::Vector2d>& corners_ideal_px, c
                          const PoseInitParams& params, InitialPose& result);
 
 /// Ceres refinement of T_cam_world minimising the corners' reprojection error.
-CameraPose refinePoseReprojection(const CameraPose& initial, const PinholeK& k,
+Pose refinePoseReprojection(const Pose& initial, const PinholeK& k,
                                   const std::vector<Eigen::Vector2d>& image, const std::vector<Eigen::Vector3d>& world);
 }  // namespace dvs_line_tracker

@@ -1,31 +1,93 @@
 #pragma once
-// The tracker's parameters by name: the one list the offline tool's YAML file, the nodelet's
-// ROS parameters and the README's table share.
-#include <dvs_line_tracker/line_tracker.h>
+// The tracker's parameters: the struct the parts read, and the one table (name, field, unit,
+// bounds, meaning) that the offline tool's YAML file, the nodelet's ROS parameters, validation
+// and the README's parameter table all come from (dvs_driver/param_table.h).
+#include <dvs_driver/param_table.h>
+#include <dvs_line_tracker/hough_line_detector.h>
+#include <dvs_line_tracker/polygon_search.h>
+#include <dvs_line_tracker/pose_estimator.h>
+#include <dvs_line_tracker/pose_initializer.h>
+#include <dvs_line_tracker/segment_attribution.h>
 
-#include <functional>
 #include <string>
 
 namespace dvs_line_tracker
 {
-/// Visit every numeric parameter: `name`, a reference to its value (exactly one of the
-/// pointers is non-null), and its unit.
-struct ParamRef
+struct LineTrackerParams
 {
-  const char* name;
-  double* d = nullptr;
-  int* i = nullptr;
-  bool* b = nullptr;
-  const char* unit = "";
+  HoughParams hough;
+  PolygonSearchParams polygon;
+  PoseInitParams init;
+  AttributionParams attribution;
+  PoseEstimatorParams estimator;
+  /// Edge position inside the firing pixel (edge_run_model.h): each attributed event is moved
+  /// from its pixel centre to where the pixel's log level, integrated from its events, puts the
+  /// edge, towards the segment's bright side (learned online from event polarities and the
+  /// edge's normal motion). Off: the constant `edge_offset_px` (the mean of that offset; events
+  /// of an edge lie on its dark side on average).
+  bool edge_run_model = true;
+  double contrast_threshold = 0;    ///< the sensor's contrast threshold C (log intensity); 0: learned from the run lengths
+  double contrast_threshold_prior = 0.3; ///< C used until it is learned (0: the constant edge_offset_px until then)
+  int contrast_learning_runs = 1000; ///< completed runs (of >= 3 events) before the learned C replaces the prior
+  double edge_contrast_ratio = 9.0; ///< bright / dark intensity across the tracked edges (black print on white paper: ~9)
+  double edge_offset_px = 0.15;     ///< constant offset (no run model, or until C is learned); 0: pixel centres
+  /// Buffered events are dropped once their projected segment has moved this far (along its
+  /// normal, at the event) since they were inserted: buffers then span a bounded image motion,
+  /// long when the edge is slow, short when fast. 0: off (thesis: count only).
+  double buffer_motion_px = 0.5;
+  /// Damping while part of the map is outside the image (fewer, shorter lines constrain the
+  /// pose); `estimator.damping` otherwise. Updated at every quality check.
+  double damping_partial_view = 1.0;
+  int buffer_size = 40;              ///< events per segment buffer (thesis: 8; with the motion bound, 40 measured most accurate, BENCHMARKS.md)
+  int init_check_interval = 200;     ///< voted events between detection attempts while initialising
+  double init_min_check_period_s = 0.005;  ///< and at least this much event time between attempts (bounds the CPU at high rates)
+  int init_min_events = 100;         ///< voted events before the first detection attempt
+  int init_refine_events = 400;      ///< latest window events used to refine the initial pose (point-to-line)
+  double init_border_margin_px = 3.0; ///< detected segments this close to an image border along it are ignored
+  double init_min_coverage = 0.6;   ///< each projected side's visible length must be this much covered by window events
+  int init_confirmations = 1;          ///< a detection is accepted when this many of the last 4 detections agree with it
+  double init_confirm_position_ratio = 0.1;   ///< agreement: position difference / distance
+  double init_confirm_angle_deg = 8.0;        ///< agreement: orientation difference
+  double init_max_inside_ratio = 0.3; ///< window events well inside the polygon / events on its sides, upper bound
+  // Tracking-quality monitoring.
+  int quality_check_interval = 512;  ///< events between quality checks while tracking
+  int min_visible_segments = 3;      ///< fewer visible (>= min_visible_length_px inside the image) -> lost
+  double min_visible_length_px = 12.0;
+  double max_mean_residual_px = 1.5; ///< mean |point-to-line| distance over the buffers above this -> lost
+  double min_attributed_ratio = 0.02;///< attributed / all events in a check interval below this -> lost
+  double min_depth_m = 0.05;         ///< map points closer (or behind) -> lost
 };
-void forEachParam(LineTrackerParams& params, const std::function<void(const ParamRef&)>& visit);
+
+/// The table of every tracker parameter bound to the fields of `params` (names as in YAML files,
+/// ROS parameters and the README), with units, bounds, cross-parameter rules and meanings. The
+/// solver is the string parameter `solver` bound to `solver_name` ("incremental" or "full"):
+/// call applySolverName after reading.
+dvs_driver::ParamTable trackerParamTable(LineTrackerParams& params, std::string& solver_name);
+/// Copy the solver named by the table's `solver` parameter into `params`.
+void applySolverName(const std::string& solver_name, LineTrackerParams& params);
+
+/// The ROS node's own settings (beside the tracker's parameters): files, frames, outputs.
+struct TrackerNodeSettings
+{
+  std::string map_file;          ///< line map YAML ("" = the 0.9 m square)
+  std::string calibration_file;  ///< calib.txt or camera_info YAML ("" = wait for dvs/camera_info)
+  int width = 128, height = 128; ///< sensor size for a calib.txt
+  std::string world_frame = "world", camera_frame = "dvs";
+  bool publish_per_event_poses = true;
+  double image_rate_hz = 30.0, marker_rate_hz = 10.0;
+};
+/// The node's settings as a table (the ROS node reads this merged with trackerParamTable).
+dvs_driver::ParamTable nodeParamTable(TrackerNodeSettings& settings);
+
+/// Validate parameters; returns an empty string when fine, else a message naming the parameter.
+std::string validateParams(const LineTrackerParams& params);
 
 /// "incremental" or "full" (anything else: false).
 bool parseSolverType(const std::string& name, SolverType& type);
 const char* solverTypeName(SolverType type);
 
-/// Read parameters from a flat YAML mapping (names as in forEachParam, plus `solver`).
-/// Throws std::runtime_error naming the file and the key on unknown keys or wrong types, and
-/// the validation message on invalid values.
+/// Read parameters from a flat YAML mapping (names as in the table). Throws std::runtime_error
+/// naming the file and the key on unknown keys or wrong types, and the validation message on
+/// invalid values.
 void loadTrackerParamsYaml(const std::string& path, LineTrackerParams& params);
 }  // namespace dvs_line_tracker

@@ -2,7 +2,9 @@
 // ROS wrapper of the line tracker: parameters, subscriptions, publications. The nodelet and
 // the node construct this one class; the algorithm lives in LineTracker.
 #include <diagnostic_updater/diagnostic_updater.h>
+#include <dvs_driver/param_table.h>
 #include <dvs_line_tracker/line_tracker.h>
+#include <dvs_line_tracker/tracker_params.h>
 #include <dvs_msgs/EventArray.h>
 #include <image_transport/image_transport.h>
 #include <ros/ros.h>
@@ -17,8 +19,9 @@ namespace dvs_line_tracker
 class TrackerRos
 {
 public:
-  /// Reads and validates the private parameters; throws std::runtime_error naming a bad one.
+  /// Reads and validates the private parameters; throws std::invalid_argument naming a bad one.
   TrackerRos(ros::NodeHandle nh, ros::NodeHandle pnh);
+
 
 private:
   void onCameraInfo(const sensor_msgs::CameraInfoConstPtr& msg);
@@ -31,11 +34,9 @@ private:
 
   ros::NodeHandle nh_, pnh_;
   LineTrackerParams params_;
+  TrackerNodeSettings settings_;
   LineMap map_;
   std::unique_ptr<LineTracker> tracker_;
-  std::string world_frame_, camera_frame_;
-  bool publish_per_event_ = true;
-  double image_rate_hz_ = 30.0, marker_rate_hz_ = 10.0;
 
   ros::Subscriber events_sub_, camera_info_sub_;
   ros::Publisher pose_pub_, poses_pub_, markers_pub_, state_pub_;

@@ -4,6 +4,7 @@
 
 #include <cv_bridge/cv_bridge.h>
 #include <dvs_driver/event_bag_io.h>
+#include <dvs_driver/param_table_ros.h>
 #include <nav_msgs/Path.h>
 #include <geometry_msgs/PoseStamped.h>
 #include <geometry_msgs/TransformStamped.h>
@@ -17,11 +18,11 @@ namespace dvs_line_tracker
 {
 namespace
 {
-geometry_msgs::Pose toPoseMsg(const CameraPose& pose)
+geometry_msgs::Pose toPoseMsg(const Pose& pose)
 {
   geometry_msgs::Pose p;
-  const Eigen::Vector3d t = pose.positionWorld();
-  const Eigen::Quaterniond q = pose.q_world_cam();
+  const Eigen::Vector3d t = pose.p_world_camera();
+  const Eigen::Quaterniond q = pose.q_world_camera();
   p.position.x = t.x();
   p.position.y = t.y();
   p.position.z = t.z();
@@ -37,36 +38,14 @@ geometry_msgs::Pose toPoseMsg(const CameraPose& pose)
 TrackerRos::TrackerRos(ros::NodeHandle nh, ros::NodeHandle pnh)
   : nh_(nh), pnh_(pnh), diagnostics_(nh, pnh, pnh.getNamespace())
 {
-  // Tracker parameters: every one has a default; ROS overrides, then validation.
-  forEachParam(params_, [&](const ParamRef& r) {
-    if (r.d)
-      pnh_.param(r.name, *r.d, *r.d);
-    else if (r.i)
-      pnh_.param(r.name, *r.i, *r.i);
-    else
-      pnh_.param(r.name, *r.b, *r.b);
-  });
+  // Every parameter in one table (the tracker's and the node's own): defaults, ROS overrides,
+  // unknown names warned about, bounds validated (throws naming the parameter).
   std::string solver = solverTypeName(params_.estimator.solver);
-  pnh_.param<std::string>("solver", solver, solver);
-  if (!parseSolverType(solver, params_.estimator.solver))
-    throw std::runtime_error("parameter ~solver must be 'incremental' or 'full' (got '" + solver + "')");
-  const std::string err = validateParams(params_);
-  if (!err.empty())
-    throw std::runtime_error("invalid parameters: " + err);
-
-  std::string map_file, calibration_file;
-  pnh_.param<std::string>("map_file", map_file, "");
-  pnh_.param<std::string>("calibration_file", calibration_file, "");
-  pnh_.param<std::string>("world_frame", world_frame_, "world");
-  pnh_.param<std::string>("camera_frame", camera_frame_, "dvs");
-  pnh_.param("publish_per_event_poses", publish_per_event_, true);
-  pnh_.param("image_rate", image_rate_hz_, 30.0);
-  pnh_.param("marker_rate", marker_rate_hz_, 10.0);
-  if (!(image_rate_hz_ > 0) || !(marker_rate_hz_ > 0))
-    throw std::runtime_error("parameters ~image_rate and ~marker_rate must be positive");
-  if (world_frame_.empty() || camera_frame_.empty())
-    throw std::runtime_error("parameters ~world_frame and ~camera_frame must not be empty");
-  map_ = map_file.empty() ? defaultSquareMap() : loadLineMap(map_file);  // throws naming the file
+  dvs_driver::ParamTable table = trackerParamTable(params_, solver);
+  table.merge(nodeParamTable(settings_));
+  dvs_driver::loadRosParams(pnh_, table);
+  applySolverName(solver, params_);
+  map_ = settings_.map_file.empty() ? defaultSquareMap() : loadLineMap(settings_.map_file);  // throws naming the file
 
   pose_pub_ = pnh_.advertise<geometry_msgs::PoseStamped>("pose", 10000);
   poses_pub_ = pnh_.advertise<nav_msgs::Path>("poses", 1000);
@@ -79,17 +58,12 @@ TrackerRos::TrackerRos(ros::NodeHandle nh, ros::NodeHandle pnh)
   diagnostics_.add("tracker", this, &TrackerRos::diagnose);
   diagnostics_timer_ = nh_.createTimer(ros::Duration(1.0), [this](const ros::TimerEvent&) { diagnostics_.update(); });
 
-  if (!calibration_file.empty())
+  if (!settings_.calibration_file.empty())
   {
-    // calib.txt (fx fy cx cy k1 k2 p1 p2 k3) or camera_info YAML, by extension.
-    const bool yaml = calibration_file.size() > 5 &&
-                      (calibration_file.rfind(".yaml") == calibration_file.size() - 5 ||
-                       calibration_file.rfind(".yml") == calibration_file.size() - 4);
-    int width = 128, height = 128;
-    pnh_.param("width", width, 128);
-    pnh_.param("height", height, 128);
-    startTracker(yaml ? dvs_calibration::loadCameraInfoYaml(calibration_file)
-                      : dvs_calibration::loadCalibTxt(calibration_file, width, height));
+    // A camera_info YAML has its size; ~width/~height are for a calib.txt.
+    const std::string& file = settings_.calibration_file;
+    const bool yaml = dvs_calibration::isCameraInfoYamlPath(file);
+    startTracker(dvs_calibration::loadCameraFile(file, yaml ? 0 : settings_.width, yaml ? 0 : settings_.height));
   }
   else
     camera_info_sub_ = nh_.subscribe("dvs/camera_info", 1, &TrackerRos::onCameraInfo, this);
@@ -128,13 +102,13 @@ void TrackerRos::onEvents(const dvs_msgs::EventArrayConstPtr& msg)
     ROS_WARN_THROTTLE(5.0, "dvs_line_tracker: no camera calibration yet (waiting for dvs/camera_info): events dropped");
     return;
   }
-  const bool per_event = publish_per_event_ && pose_pub_.getNumSubscribers() > 0;
+  const bool per_event = settings_.publish_per_event_poses && pose_pub_.getNumSubscribers() > 0;
   const bool batched = poses_pub_.getNumSubscribers() > 0;
   nav_msgs::PathPtr poses;
   if (batched)
   {
     poses = boost::make_shared<nav_msgs::Path>();
-    poses->header.frame_id = world_frame_;
+    poses->header.frame_id = settings_.world_frame;
     poses->poses.reserve(msg->events.size());
   }
   int64_t last_update_ns = 0;
@@ -155,7 +129,7 @@ void TrackerRos::onEvents(const dvs_msgs::EventArrayConstPtr& msg)
     {
       geometry_msgs::PoseStampedPtr p = boost::make_shared<geometry_msgs::PoseStamped>();
       p->header.stamp = m.ts;
-      p->header.frame_id = world_frame_;
+      p->header.frame_id = settings_.world_frame;
       p->pose = toPoseMsg(tracker_->pose());
       pose_pub_.publish(p);
     }
@@ -164,7 +138,7 @@ void TrackerRos::onEvents(const dvs_msgs::EventArrayConstPtr& msg)
       poses->poses.emplace_back();
       geometry_msgs::PoseStamped& p = poses->poses.back();
       p.header.stamp = m.ts;
-      p.header.frame_id = world_frame_;
+      p.header.frame_id = settings_.world_frame;
       p.pose = toPoseMsg(tracker_->pose());
     }
   }
@@ -198,8 +172,8 @@ void TrackerRos::publishPacket(const dvs_msgs::EventArray& msg, int64_t last_upd
   {
     geometry_msgs::TransformStamped tf;
     tf.header.stamp.fromNSec(static_cast<uint64_t>(last_update_ns));
-    tf.header.frame_id = world_frame_;
-    tf.child_frame_id = camera_frame_;
+    tf.header.frame_id = settings_.world_frame;
+    tf.child_frame_id = settings_.camera_frame;
     const geometry_msgs::Pose p = toPoseMsg(tracker_->pose());
     tf.transform.translation.x = p.position.x;
     tf.transform.translation.y = p.position.y;
@@ -208,12 +182,12 @@ void TrackerRos::publishPacket(const dvs_msgs::EventArray& msg, int64_t last_upd
     tf_.sendTransform(tf);
   }
   const ros::Time stamp = msg.events.empty() ? msg.header.stamp : msg.events.back().ts;
-  if (markers_pub_.getNumSubscribers() > 0 && (stamp - last_markers_).toSec() >= 1.0 / marker_rate_hz_)
+  if (markers_pub_.getNumSubscribers() > 0 && (stamp - last_markers_).toSec() >= 1.0 / settings_.marker_rate_hz)
   {
     last_markers_ = stamp;
     publishMarkers(stamp);
   }
-  if (image_pub_.getNumSubscribers() > 0 && (stamp - last_image_).toSec() >= 1.0 / image_rate_hz_)
+  if (image_pub_.getNumSubscribers() > 0 && (stamp - last_image_).toSec() >= 1.0 / settings_.image_rate_hz)
   {
     last_image_ = stamp;
     publishImage(msg);
@@ -224,7 +198,7 @@ void TrackerRos::publishMarkers(const ros::Time& stamp)
 {
   visualization_msgs::MarkerArrayPtr arr = boost::make_shared<visualization_msgs::MarkerArray>();
   visualization_msgs::Marker map_marker;
-  map_marker.header.frame_id = world_frame_;
+  map_marker.header.frame_id = settings_.world_frame;
   map_marker.header.stamp = stamp;
   map_marker.ns = "map";
   map_marker.type = visualization_msgs::Marker::LINE_LIST;
@@ -243,7 +217,7 @@ void TrackerRos::publishMarkers(const ros::Time& stamp)
   arr->markers.push_back(map_marker);
   // Projected segments as lines on the camera's normalised image plane (z = 1 m in the dvs frame).
   visualization_msgs::Marker proj = map_marker;
-  proj.header.frame_id = camera_frame_;
+  proj.header.frame_id = settings_.camera_frame;
   proj.ns = "projected_segments";
   proj.id = 1;
   proj.points.clear();
@@ -281,7 +255,7 @@ void TrackerRos::publishImage(const dvs_msgs::EventArray& msg)
                cv::LINE_AA);
   std_msgs::Header header;
   header.stamp = msg.events.empty() ? msg.header.stamp : msg.events.back().ts;
-  header.frame_id = camera_frame_;
+  header.frame_id = settings_.camera_frame;
   image_pub_.publish(cv_bridge::CvImage(header, "bgr8", img).toImageMsg());
 }
 

@@ -1,4 +1,4 @@
-#include <dvs_line_tracker/synthetic_events.h>
+#include "synthetic_events.h"
 
 #include <algorithm>
 #include <cmath>
@@ -61,7 +61,7 @@ double distanceToSegment(const Eigen::Vector2d& p, const Eigen::Vector2d& a, con
 }
 }  // namespace
 
-SyntheticSequence generateSyntheticEvents(const LineMap& map, const Trajectory& trajectory,
+SyntheticSequence generateSyntheticEvents(const LineMap& map, const PoseFunction& trajectory,
                                           const SyntheticEventParams& params)
 {
   SyntheticSequence seq;
@@ -70,7 +70,7 @@ SyntheticSequence generateSyntheticEvents(const LineMap& map, const Trajectory& 
   const int steps = static_cast<int>(std::ceil(params.duration_s / params.time_step_s));
   const size_t num_polys = map.polygons.size();
 
-  auto project = [&](const CameraPose& pose, std::vector<std::vector<Eigen::Vector2d>>& out) {
+  auto project = [&](const Pose& pose, std::vector<std::vector<Eigen::Vector2d>>& out) {
     out.resize(num_polys);
     bool ok = true;
     for (size_t pi = 0; pi < num_polys; ++pi)
@@ -95,7 +95,7 @@ SyntheticSequence generateSyntheticEvents(const LineMap& map, const Trajectory& 
       prev_spans[pi][y] = prev_ok ? spanOnRow(prev_poly[pi], y) : RowSpan();
 
   // Occluded segment projected per step (for dropping its events).
-  auto occluded = [&](const CameraPose& pose, double t, const Eigen::Vector2d& px) {
+  auto occluded = [&](const Pose& pose, double t, const Eigen::Vector2d& px) {
     if (params.occluded_segment < 0 || t < params.occlusion_start_s || t >= params.occlusion_end_s)
       return false;
     double best = std::numeric_limits<double>::max();
@@ -129,7 +129,7 @@ SyntheticSequence generateSyntheticEvents(const LineMap& map, const Trajectory& 
       seq.ground_truth.push_back({next_gt, trajectory(next_gt)});
       next_gt = std::round(next_gt * 1000.0 + 1.0) / 1000.0;
     }
-    const CameraPose pose = trajectory(t1);
+    const Pose pose = trajectory(t1);
     const bool ok = project(pose, cur_poly);
     batch.clear();
     for (size_t pi = 0; pi < num_polys; ++pi)
@@ -196,7 +196,7 @@ SyntheticSequence generateSyntheticEvents(const LineMap& map, const Trajectory& 
   return seq;
 }
 
-CameraPose lookAt(const Eigen::Vector3d& p_world, const Eigen::Vector3d& target_world, const Eigen::Vector3d& up_world,
+Pose lookAt(const Eigen::Vector3d& p_world, const Eigen::Vector3d& target_world, const Eigen::Vector3d& up_world,
                   double roll_rad)
 {
   const Eigen::Vector3d z = (target_world - p_world).normalized();
@@ -207,39 +207,7 @@ CameraPose lookAt(const Eigen::Vector3d& p_world, const Eigen::Vector3d& target_
   R_world_cam.col(1) = y;
   R_world_cam.col(2) = z;
   R_world_cam = R_world_cam * Eigen::AngleAxisd(roll_rad, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  return CameraPose::fromWorldCam(R_world_cam, p_world);
+  return Pose::fromWorldCamera(R_world_cam, p_world);
 }
 
-double flipDuration(double peak_rate_deg_s, double hover_s) { return 2 * hover_s + 720.0 / peak_rate_deg_s; }
-
-Trajectory flipTrajectory(double distance_m, double peak_rate_deg_s, double rise_m, double hover_s)
-{
-  const double flip_s = 720.0 / peak_rate_deg_s;  // raised-cosine rate: 360 deg = peak * T / 2
-  return [=](double t) {
-    double roll = 0, rise = 0;
-    const double drift = 0.15 * t;  // sideways drift (m/s) so that the hover produces events
-    if (t > hover_s && t < hover_s + flip_s)
-    {
-      const double u = (t - hover_s) / flip_s;
-      roll = 2 * M_PI * (u - std::sin(2 * M_PI * u) / (2 * M_PI));
-      rise = rise_m * std::sin(M_PI * u);
-    }
-    else if (t >= hover_s + flip_s)
-      roll = 2 * M_PI;
-    const Eigen::Vector3d p(-0.1 + drift, rise, distance_m);
-    return lookAt(p, p - Eigen::Vector3d::UnitZ(), Eigen::Vector3d::UnitY(), roll);
-  };
-}
-
-Trajectory circleTrajectory(double distance_m, double tilt_deg, double period_s)
-{
-  const double radius = distance_m * std::tan(tilt_deg * M_PI / 180.0);
-  return [=](double t) {
-    const double phi = 2 * M_PI * t / period_s;
-    const Eigen::Vector3d p(radius * std::cos(phi), radius * std::sin(phi), distance_m);
-    // Like the thesis's view matrix (Eq. 4.5): the camera turns with the orbit, so the image
-    // of the square rotates by 360 deg per period.
-    return lookAt(p, Eigen::Vector3d::Zero(), Eigen::Vector3d(-std::sin(phi), std::cos(phi), 0.0));
-  };
-}
 }  // namespace dvs_line_tracker

@@ -1,0 +1,49 @@
+#pragma once
+// The per-event estimator's state (in the spirit of open_vins' State: variables, no policy):
+// the pose estimate, the accumulated increment since each segment's linearisation, the map
+// segments projected at the estimate, the per-segment event buffers and their normal equations,
+// and the damping in force. The parts that change it: EventUpdater (per event), LossMonitor
+// (reads it), TrackerInitializer (produces the pose it starts from).
+#include <dvs_line_tracker/line_map.h>
+#include <dvs_line_tracker/pose_estimator.h>
+#include <dvs_line_tracker/pose_types.h>
+#include <dvs_line_tracker/segment_attribution.h>
+
+#include <vector>
+
+namespace dvs_line_tracker
+{
+/// What the estimator needs of the camera and the map to project segments (immutable).
+struct TrackingGeometry
+{
+  LineMap map;
+  PinholeK k;        ///< ideal pinhole (events are undistorted by the camera model's table)
+  int width = 0, height = 0;
+  double min_depth_m = 0.05;            ///< closer map points count as behind the camera
+  double min_visible_length_px = 12.0;  ///< shorter visible parts do not count as visible
+
+  /// Project every map segment at `pose` into `out` (sized like the map). With
+  /// `update_visibility`, also clip to the image (visible_length, visible); otherwise only the
+  /// projection is refreshed (the per-event path).
+  void project(const Pose& pose, bool update_visibility, std::vector<ProjectedSegment>& out) const;
+  /// Length (px) of the projected segment `s` inside the image; its clipped endpoints into
+  /// `a`, `b` when not empty.
+  double clippedSegment(const ProjectedSegment& s, Eigen::Vector2d* a, Eigen::Vector2d* b) const;
+};
+
+struct EstimatorState
+{
+  Pose pose;                                       ///< T_world_camera, the estimate
+  Vector6d x_accumulated = Vector6d::Zero();       ///< sum of the increments applied (linearisation reference)
+  std::vector<ProjectedSegment> projected;         ///< map segments at `pose`
+  std::vector<SegmentBuffer> buffers;              ///< per segment: its recent events
+  std::vector<SegmentNormalEquations> equations;   ///< per segment: its normal equations
+  double damping = 0;                              ///< in force (normal or partial view)
+
+  /// Sized for `segments` map segments, buffers of `buffer_size` events, everything cleared.
+  void resize(size_t segments, int buffer_size);
+  /// Empty buffers and equations, pose untouched.
+  void clear();
+  int visibleSegments() const;
+};
+}  // namespace dvs_line_tracker

@@ -1,0 +1,49 @@
+#pragma once
+// The per-event measurement update (thesis 4.2.2): attribute an event to the projected map
+// segments, buffer it where the edge model puts the edge, and take one damped Gauss-Newton step
+// on the buffers' normal equations (pose_estimator.h: incremental or full solver). Also the
+// solver policy: which segments are re-linearised per event, the damping in force (stronger
+// while part of the map is out of view), and dropping buffered events whose segment moved away.
+// A new kind of measurement (e.g. an IMU) gets its own updater beside this one.
+#include <dvs_line_tracker/dark_side_evidence.h>
+#include <dvs_line_tracker/estimator_state.h>
+#include <dvs_line_tracker/tracker_params.h>
+
+#include <cstdint>
+
+namespace dvs_line_tracker
+{
+class EventUpdater
+{
+public:
+  EventUpdater(const TrackingGeometry& geometry, const LineTrackerParams& params);
+
+  /// Start tracking from `pose`: project, seed every visible segment's buffer with points along
+  /// it, linearise. Returns the number of visible segments.
+  int start(EstimatorState& state, const Pose& pose);
+
+  /// One event at ideal pixel `p`: attribute it, buffer it (moved by `edge_offset` towards the
+  /// bright side), update the pose. Returns true when it was attributed (and the pose updated).
+  /// Allocates nothing.
+  bool update(EstimatorState& state, const Eigen::Vector2d& p, bool polarity, double edge_offset);
+
+  /// Refresh what the per-event path leaves stale (called at every quality check): clip the
+  /// projections to the image (visibility), drop the stale events of every buffer, and choose
+  /// the damping.
+  void refresh(EstimatorState& state);
+
+  /// Forget learned evidence and counters.
+  void reset();
+
+private:
+  void relinearize(EstimatorState& state, int i) const;
+  void step(EstimatorState& state, const int changed[2], int num_changed);
+  void expireStaleEvents(EstimatorState& state, int i) const;
+
+  const TrackingGeometry& geometry_;
+  const LineTrackerParams& params_;
+  DarkSideEvidence dark_side_;
+  int round_robin_ = 0;
+  uint64_t updates_since_normalize_ = 0;
+};
+}  // namespace dvs_line_tracker

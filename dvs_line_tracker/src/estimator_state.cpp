@@ -1,0 +1,59 @@
+#include <dvs_line_tracker/estimator_state.h>
+
+namespace dvs_line_tracker
+{
+void TrackingGeometry::project(const Pose& pose, bool update_visibility, std::vector<ProjectedSegment>& out) const
+{
+  const double w = width, h = height;
+  for (size_t i = 0; i < map.segments.size(); ++i)
+  {
+    ProjectedSegment& s = out[i];
+    const Eigen::Vector3d pc0 = pose.toCamera(map.segments[i].p0_world);
+    const Eigen::Vector3d pc1 = pose.toCamera(map.segments[i].p1_world);
+    s.in_front = pc0.z() > min_depth_m && pc1.z() > min_depth_m;
+    if (!s.in_front)
+    {
+      s.visible = false;
+      s.visible_length = 0;
+      continue;
+    }
+    s.set(k.project(pc0), k.project(pc1));
+    if (update_visibility)
+    {
+      s.visible_length = clippedLength(s.a, s.b, -0.5, -0.5, w - 0.5, h - 0.5);
+      s.visible = s.visible_length >= min_visible_length_px;
+    }
+  }
+}
+
+double TrackingGeometry::clippedSegment(const ProjectedSegment& s, Eigen::Vector2d* a, Eigen::Vector2d* b) const
+{
+  return clippedLength(s.a, s.b, -0.5, -0.5, width - 0.5, height - 0.5, a, b);
+}
+
+void EstimatorState::resize(size_t segments, int buffer_size)
+{
+  projected.assign(segments, ProjectedSegment());
+  buffers.assign(segments, SegmentBuffer(buffer_size));
+  equations.assign(segments, SegmentNormalEquations());
+  x_accumulated.setZero();
+  damping = 0;
+}
+
+void EstimatorState::clear()
+{
+  for (auto& b : buffers)
+    b.clear();
+  for (auto& e : equations)
+    e = SegmentNormalEquations();
+  x_accumulated.setZero();
+}
+
+int EstimatorState::visibleSegments() const
+{
+  int visible = 0;
+  for (const auto& s : projected)
+    visible += s.visible ? 1 : 0;
+  return visible;
+}
+}  // namespace dvs_line_tracker

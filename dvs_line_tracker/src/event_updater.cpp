@@ -1,0 +1,140 @@
+#include <dvs_line_tracker/event_updater.h>
+
+#include <algorithm>
+
+namespace dvs_line_tracker
+{
+EventUpdater::EventUpdater(const TrackingGeometry& geometry, const LineTrackerParams& params)
+  : geometry_(geometry), params_(params), dark_side_(geometry.map)
+{
+}
+
+void EventUpdater::reset()
+{
+  dark_side_.clear();
+  round_robin_ = 0;
+  updates_since_normalize_ = 0;
+}
+
+int EventUpdater::start(EstimatorState& state, const Pose& pose)
+{
+  state.pose = pose;
+  state.damping = params_.estimator.damping;
+  state.x_accumulated.setZero();
+  geometry_.project(state.pose, true, state.projected);
+  dark_side_.restart(state.projected);
+  int visible = 0;
+  for (size_t i = 0; i < state.projected.size(); ++i)
+  {
+    state.buffers[i].clear();
+    const ProjectedSegment& s = state.projected[i];
+    if (!s.visible)
+      continue;
+    ++visible;
+    // Seed the buffer with points spread along the visible part of the projected segment.
+    Eigen::Vector2d ca, cb;
+    geometry_.clippedSegment(s, &ca, &cb);
+    const int k = state.buffers[i].capacity();
+    for (int j = 0; j < k; ++j)
+      state.buffers[i].insert(ca + (cb - ca) * ((j + 0.5) / k), s);
+  }
+  for (size_t i = 0; i < state.projected.size(); ++i)
+    relinearize(state, static_cast<int>(i));
+  return visible;
+}
+
+bool EventUpdater::update(EstimatorState& state, const Eigen::Vector2d& p, bool polarity, double edge_offset)
+{
+  int segs[2];
+  const int n =
+      attributeEvent(p, state.projected.data(), static_cast<int>(state.projected.size()), params_.attribution, segs);
+  if (n == 0)
+    return false;
+  for (int i = 0; i < n; ++i)
+    state.buffers[segs[i]].insert(dark_side_.correct(p, polarity, segs[i], edge_offset, state.projected),
+                                  state.projected[segs[i]], params_.attribution.max_orthogonal_px,
+                                  params_.attribution.max_parallel_px,
+                                  params_.buffer_motion_px > 0 ? params_.buffer_motion_px : 1e300,
+                                  params_.estimator.huber_px);
+  step(state, segs, n);
+  return true;
+}
+
+void EventUpdater::relinearize(EstimatorState& state, int i) const
+{
+  SegmentNormalEquations& eq = state.equations[i];
+  const MapSegment& seg = geometry_.map.segments[i];
+  eq.active = state.projected[i].visible &&
+              linearizeSegment(geometry_.k, state.pose, seg.p0_world, seg.p1_world, state.buffers[i], eq);
+  eq.x_lin = state.x_accumulated;
+}
+
+void EventUpdater::step(EstimatorState& state, const int changed[2], int num_changed)
+{
+  const int n = static_cast<int>(state.equations.size());
+  const auto& ep = params_.estimator;
+  if (ep.solver == SolverType::kIncremental)
+  {
+    for (int c = 0; c < num_changed; ++c)
+      relinearize(state, changed[c]);
+    for (int r = 0; r < ep.extra_relinearizations && n > 1; ++r)
+    {
+      round_robin_ = (round_robin_ + 1) % n;
+      // Segments without events of their own lose their stale events here.
+      expireStaleEvents(state, round_robin_);
+      relinearize(state, round_robin_);
+    }
+    Vector6d delta;
+    if (solveStep(state.equations.data(), n, state.x_accumulated, state.damping, delta))
+    {
+      state.pose.applyCameraIncrement(delta);
+      state.x_accumulated += delta;
+    }
+  }
+  else
+  {
+    for (int it = 0; it < ep.full_iterations; ++it)
+    {
+      for (int i = 0; i < n; ++i)
+        relinearize(state, i);
+      Vector6d delta;
+      if (!solveStep(state.equations.data(), n, state.x_accumulated, state.damping, delta))
+        break;
+      state.pose.applyCameraIncrement(delta);
+      state.x_accumulated += delta;
+      geometry_.project(state.pose, false, state.projected);
+      if (delta.squaredNorm() < 1e-16)
+        break;
+    }
+  }
+  if (++updates_since_normalize_ >= 4096)
+  {
+    state.pose.normalize();
+    updates_since_normalize_ = 0;
+  }
+  // Visibility (clipping) is refreshed by refresh(); per event only the projection.
+  geometry_.project(state.pose, false, state.projected);
+}
+
+void EventUpdater::expireStaleEvents(EstimatorState& state, int i) const
+{
+  if (params_.buffer_motion_px > 0 && state.projected[i].in_front)
+    state.buffers[i].expire(state.projected[i], params_.buffer_motion_px);
+}
+
+void EventUpdater::refresh(EstimatorState& state)
+{
+  geometry_.project(state.pose, true, state.projected);
+  // Segments that moved without producing events (e.g. an edge leaving the view) would keep
+  // their stale events: drop them here too, not only when the segment receives an event.
+  for (size_t i = 0; i < state.buffers.size(); ++i)
+    expireStaleEvents(state, static_cast<int>(i));
+  // Part of the map outside the image (or behind the camera): fewer and shorter lines constrain
+  // the pose, so its weakly observable directions get the stronger damping.
+  bool partial = false;
+  for (const auto& s : state.projected)
+    partial |= !s.in_front || s.visible_length < s.length - 1.0;
+  state.damping =
+      partial ? std::max(params_.estimator.damping, params_.damping_partial_view) : params_.estimator.damping;
+}
+}  // namespace dvs_line_tracker

@@ -1,0 +1,220 @@
+// The tracker's parts on their own: the parameter table, the updater, the loss monitor, the
+// propagator seam, and a reset that reaches every part.
+#include "synthetic_events.h"
+
+#include <dvs_line_tracker/event_updater.h>
+#include <dvs_line_tracker/line_tracker.h>
+#include <dvs_line_tracker/loss_monitor.h>
+#include <dvs_line_tracker/tracker_params.h>
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <limits>
+#include <sstream>
+
+using namespace dvs_line_tracker;
+
+namespace
+{
+TrackingGeometry dvs128Geometry()
+{
+  const auto cam = dvs_calibration::CameraModel::dvs128();
+  TrackingGeometry g;
+  g.map = defaultSquareMap();
+  g.k = {cam.intrinsics().fx, cam.intrinsics().fy, cam.intrinsics().cx, cam.intrinsics().cy};
+  g.width = cam.width();
+  g.height = cam.height();
+  return g;
+}
+
+const Pose kFront = lookAt({0.05, -0.02, 1.6}, {0, 0, 0}, {0, 1, 0}, 0.1);
+
+// A slow roll with sideways drift the tracker initialises on (ideal events on the edges).
+SyntheticSequence slowRoll(double duration_s)
+{
+  SyntheticEventParams p;
+  p.k = PinholeK{115, 115, 63.5, 63.5};
+  p.duration_s = duration_s;
+  return generateSyntheticEvents(
+      defaultSquareMap(),
+      [](double t) {
+        return lookAt({-0.1 + 0.2 * t, 0.05 * std::sin(3 * t), 1.6}, {-0.1 + 0.2 * t, 0.05 * std::sin(3 * t), 0},
+                      {0, 1, 0}, 0.6 * std::sin(2.5 * t));
+      },
+      p);
+}
+
+}  // namespace
+
+TEST(TrackerParams, TableNamesTheBadParameterAndItsBounds)
+{
+  LineTrackerParams p;
+  EXPECT_EQ(validateParams(p), "");
+  p.buffer_size = 1;
+  p.hough.radius_bin_px = 1e-9;  // used to be a vector-too-large error deep inside the Hough space
+  const std::string err = validateParams(p);
+  EXPECT_NE(err.find("buffer_size must be in [2, 1024] events (got 1)"), std::string::npos) << err;
+  EXPECT_NE(err.find("hough_radius_bin_px must be in [0.1, 100] px"), std::string::npos) << err;
+  EXPECT_THROW(LineTracker(dvs_calibration::CameraModel::dvs128(), defaultSquareMap(), p), std::invalid_argument);
+}
+
+TEST(TrackerParams, CrossParameterRules)
+{
+  LineTrackerParams p;
+  p.polygon.min_turn_angle_deg = 120;
+  p.polygon.max_turn_angle_deg = 100;
+  EXPECT_NE(validateParams(p).find("polygon_min_angle_deg must be < polygon_max_angle_deg"), std::string::npos);
+}
+
+TEST(TrackerParams, YamlUsesTheTableAndTheSolverName)
+{
+  const std::string path = testing::TempDir() + "tracker_params_test.yaml";
+  std::ofstream(path) << "buffer_size: 12\nsolver: full\ndamping: 0.5\n";
+  LineTrackerParams p;
+  loadTrackerParamsYaml(path, p);
+  EXPECT_EQ(p.buffer_size, 12);
+  EXPECT_EQ(p.estimator.solver, SolverType::kFullGaussNewton);
+  EXPECT_DOUBLE_EQ(p.estimator.damping, 0.5);
+  std::ofstream(path) << "solver: fastest\n";
+  EXPECT_THROW(loadTrackerParamsYaml(path, p), std::runtime_error);
+  std::ofstream(path) << "bufer_size: 12\n";
+  try
+  {
+    loadTrackerParamsYaml(path, p);
+    FAIL() << "misspelt name accepted";
+  }
+  catch (const std::runtime_error& e)
+  {
+    EXPECT_NE(std::string(e.what()).find("unknown parameter 'bufer_size'"), std::string::npos) << e.what();
+  }
+}
+
+TEST(TrackerParams, ReadmeTableListsEveryParameter)
+{
+  std::ifstream in(TRACKER_README);
+  ASSERT_TRUE(in) << TRACKER_README;
+  std::stringstream ss;
+  ss << in.rdbuf();
+  const std::string readme = ss.str();
+  // The README holds the tables exactly as the code prints them (track_offline --list-params).
+  LineTrackerParams p;
+  std::string solver = solverTypeName(p.estimator.solver);
+  TrackerNodeSettings node;
+  EXPECT_NE(readme.find(trackerParamTable(p, solver).markdownTable()), std::string::npos)
+      << "README.md's tracker parameter table differs from `track_offline --list-params`";
+  EXPECT_NE(readme.find(nodeParamTable(node).markdownTable()), std::string::npos)
+      << "README.md's node parameter table differs from `track_offline --list-params`";
+}
+
+TEST(EventUpdater, StartsSeedsAndUpdatesOnAttributedEventsOnly)
+{
+  const TrackingGeometry g = dvs128Geometry();
+  LineTrackerParams params;
+  EstimatorState state;
+  state.resize(g.map.segments.size(), params.buffer_size);
+  EventUpdater updater(g, params);
+  EXPECT_EQ(updater.start(state, kFront), 4);
+  for (const auto& b : state.buffers)
+    EXPECT_EQ(b.size(), params.buffer_size);
+  // An event on the first side, 0.8 px off it along its normal: attributed, the pose moves.
+  const ProjectedSegment& s = state.projected[0];
+  const Eigen::Vector2d on_side = 0.5 * (s.a + s.b) + 0.8 * s.normal;
+  const Pose before = state.pose;
+  EXPECT_TRUE(updater.update(state, on_side, true, 0.0));
+  EXPECT_GT(positionError(before, state.pose) + orientationError(before, state.pose), 0.0);
+  // Far from every side: not attributed, the pose stays.
+  const Pose after = state.pose;
+  const Eigen::Vector2d centre = 0.25 * (state.projected[0].a + state.projected[1].a + state.projected[2].a +
+                                         state.projected[3].a);
+  EXPECT_FALSE(updater.update(state, centre, true, 0.0));
+  EXPECT_EQ(positionError(after, state.pose), 0.0);
+}
+
+TEST(LossMonitor, NamesWhyTheTrackIsLost)
+{
+  const TrackingGeometry g = dvs128Geometry();
+  LineTrackerParams params;
+  EstimatorState state;
+  state.resize(g.map.segments.size(), params.buffer_size);
+  EventUpdater updater(g, params);
+  LossMonitor monitor(params);
+  updater.start(state, kFront);
+  for (int i = 0; i < params.quality_check_interval; ++i)
+    monitor.countEvent(true);
+  EXPECT_TRUE(monitor.due());
+  EXPECT_EQ(monitor.check(state), "");
+  EXPECT_FALSE(monitor.due());
+
+  // Attribution collapsed: 1 of 512 events attributed.
+  for (int i = 0; i < params.quality_check_interval; ++i)
+    monitor.countEvent(i == 0);
+  EXPECT_NE(monitor.check(state).find("attribution collapsed"), std::string::npos);
+
+  // The square far outside the view.
+  updater.start(state, lookAt({5, 0, 1.6}, {5, 0, 0}, {0, 1, 0}));
+  EXPECT_NE(monitor.check(state).find("segments left the view (0 visible)"), std::string::npos);
+
+  state.pose.t_camera_world.x() = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(monitor.check(state), "the pose is not finite");
+}
+
+namespace
+{
+struct CountingPropagator : StatePropagator
+{
+  int propagated = 0, restarted = 0;
+  int64_t last_t = -1;
+  bool monotonic = true;
+  void propagate(EstimatorState&, int64_t t_ns) override
+  {
+    monotonic &= t_ns >= last_t;
+    last_t = t_ns;
+    ++propagated;
+  }
+  void restart(const EstimatorState&, int64_t) override { ++restarted; }
+};
+}  // namespace
+
+TEST(LineTracker, PropagatorRunsBeforeEveryTrackingUpdate)
+{
+  const SyntheticSequence seq = slowRoll(0.6);
+  LineTracker tracker(idealCamera(), defaultSquareMap());
+  auto propagator = std::make_shared<CountingPropagator>();
+  tracker.setPropagator(propagator);
+  uint64_t tracking_events = 0;
+  for (const auto& e : seq.events)
+  {
+    const bool tracking = tracker.state() == TrackerState::kTracking;
+    tracker.processEvent(e);
+    tracking_events += tracking ? 1 : 0;
+  }
+  ASSERT_EQ(tracker.state(), TrackerState::kTracking);
+  EXPECT_EQ(propagator->restarted, static_cast<int>(tracker.stats().initializations));
+  EXPECT_EQ(static_cast<uint64_t>(propagator->propagated), tracking_events);
+  EXPECT_TRUE(propagator->monotonic);
+}
+
+TEST(LineTracker, ResetReachesEveryPart)
+{
+  const SyntheticSequence seq = slowRoll(0.6);
+  LineTracker tracker(idealCamera(), defaultSquareMap());
+  std::vector<Pose> first_run;
+  for (const auto& e : seq.events)
+    if (tracker.processEvent(e))
+      first_run.push_back(tracker.pose());
+  ASSERT_EQ(tracker.state(), TrackerState::kTracking);
+  ASSERT_GT(first_run.size(), 100u);
+  tracker.reset();
+  EXPECT_EQ(tracker.state(), TrackerState::kInitializing);
+  EXPECT_EQ(tracker.stats().events, 0u);
+  EXPECT_EQ(tracker.lastLossReason(), "");
+  // A reset tracker behaves exactly like a new one on the same events (nothing learned survives).
+  std::vector<Pose> second_run;
+  for (const auto& e : seq.events)
+    if (tracker.processEvent(e))
+      second_run.push_back(tracker.pose());
+  ASSERT_EQ(second_run.size(), first_run.size());
+  for (size_t i = 0; i < first_run.size(); ++i)
+    ASSERT_EQ(positionError(first_run[i], second_run[i]), 0.0) << "update " << i;
+}
