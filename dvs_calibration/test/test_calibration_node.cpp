@@ -131,7 +131,7 @@ TEST(CalibrationNode, RejectsBadParametersNamingThem)
 {
   const std::vector<std::pair<std::string, XmlRpc::XmlRpcValue>> bad = {
     {"spacing", XmlRpc::XmlRpcValue(-0.1)},       {"grid", XmlRpc::XmlRpcValue("7by7")},
-    {"detector", XmlRpc::XmlRpcValue("hough")},   {"window_ms", XmlRpc::XmlRpcValue(0.0)},
+    {"detector", XmlRpc::XmlRpcValue("hough")},   {"window", XmlRpc::XmlRpcValue(0.0)},
     {"closing_size", XmlRpc::XmlRpcValue(40)},    {"min_views", XmlRpc::XmlRpcValue(1)},
     {"width", XmlRpc::XmlRpcValue(128)},  // width without height
   };
@@ -147,9 +147,27 @@ TEST(CalibrationNode, RejectsBadParametersNamingThem)
     }
     catch (const std::invalid_argument& e)
     {
-      EXPECT_NE(std::string(e.what()).find("~" + bad[i].first), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(bad[i].first), std::string::npos) << e.what();
     }
   }
+  // A parameter of the wrong type is named too.
+  ros::NodeHandle typed("/bad_type");
+  typed.setParam("max_views", "many");
+  try
+  {
+    dvs_calibration::CalibrationRos node(ros::NodeHandle("/bad_type_global"), typed);
+    ADD_FAILURE() << "accepted a string for max_views";
+  }
+  catch (const std::invalid_argument& e)
+  {
+    EXPECT_NE(std::string(e.what()).find("~max_views must be an integer"), std::string::npos) << e.what();
+  }
+  // The deprecated ~window_ms (ms) is still read, converted to seconds.
+  ros::NodeHandle old_name("/old_window_ms");
+  old_name.setParam("window_ms", 0.0);
+  EXPECT_THROW(dvs_calibration::CalibrationRos(ros::NodeHandle("/old_global"), old_name), std::invalid_argument);
+  old_name.setParam("window_ms", 50.0);
+  EXPECT_NO_THROW(dvs_calibration::CalibrationRos(ros::NodeHandle("/old_global"), old_name));
   // The defaults are valid.
   ros::NodeHandle good("/good_parameters");
   EXPECT_NO_THROW(dvs_calibration::CalibrationRos(ros::NodeHandle("/good_global"), good));

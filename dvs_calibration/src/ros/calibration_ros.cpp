@@ -1,7 +1,9 @@
+#include <dvs_calibration/calibration_node_params.h>
 #include <dvs_calibration/calibration_report.h>
 #include <dvs_calibration/calibration_ros.h>
 #include <dvs_calibration/event_image.h>
 #include <dvs_driver/event_bag_io.h>
+#include <dvs_driver/param_table_ros.h>
 
 #include <cv_bridge/cv_bridge.h>
 #include <sensor_msgs/Image.h>
@@ -17,12 +19,6 @@ namespace dvs_calibration
 {
 namespace
 {
-[[noreturn]] void badParameter(const std::string& name, const std::string& why)
-{
-  ROS_FATAL_STREAM("dvs_calibration: parameter ~" << name << ": " << why);
-  throw std::invalid_argument("dvs_calibration: parameter ~" + name + ": " + why);
-}
-
 std::string defaultOutputFile(const std::string& camera_name)
 {
   std::string home;
@@ -69,113 +65,39 @@ CalibrationRos::CalibrationRos(ros::NodeHandle nh, ros::NodeHandle pnh) : nh_(nh
 
 void CalibrationRos::readParameters(ros::NodeHandle& pnh)
 {
-  std::string grid, detector;
-  double window_ms, spacing, min_view_difference, max_motion, max_homography_rms, outlier_factor;
-  int width, height, count_threshold, closing_size, blink_min_transitions, max_views, min_views;
-  bool estimate_k3, auto_collect;
-  pnh.param<std::string>("grid", grid, "7x7");
-  pnh.param("spacing", spacing, 0.03);
-  pnh.param("width", width, 0);
-  pnh.param("height", height, 0);
-  pnh.param("window_ms", window_ms, 75.0);
-  pnh.param<std::string>("detector", detector, "counts");
-  pnh.param("count_threshold", count_threshold, 0);
-  pnh.param("closing_size", closing_size, 3);
-  pnh.param("blink_min_transitions", blink_min_transitions, 2);
-  pnh.param("auto_collect", auto_collect, true);
-  pnh.param("start_collecting", start_collecting_, true);
-  pnh.param("min_view_difference", min_view_difference, 8.0);
-  pnh.param("max_motion", max_motion, 0.5);
-  pnh.param("max_views", max_views, 200);
-  pnh.param("max_homography_rms", max_homography_rms, 1.5);
-  pnh.param("min_views", min_views, 8);
-  pnh.param("outlier_factor", outlier_factor, 3.0);
-  pnh.param("estimate_k3", estimate_k3, false);
-  pnh.param<std::string>("camera_name", camera_name_, "dvs");
-  pnh.param<std::string>("output_file", output_file_, "");
-  pnh.param<std::string>("set_camera_info_service", set_camera_info_service_, "dvs/set_camera_info");
-  pnh.param("call_set_camera_info", call_set_camera_info_, true);
-  pnh.param<std::string>("frame_id", frame_id_, "dvs");
-  pnh.param("preview_upscale", preview_upscale_, 4);
-
-  try
+  // Every parameter from one table (calibration_node_params.h): ROS overrides the defaults,
+  // unknown names are warned about, ranges validated (throws naming the parameter).
+  CalibrationNodeParams p;
+  dvs_driver::ParamTable table = calibrationParamTable(p);
+  double window_ms = 0;
+  if (pnh.getParam("window_ms", window_ms))
   {
-    config_.grid.grid = parseGridSize(grid);
-  }
-  catch (const std::exception& e)
-  {
-    badParameter("grid", e.what());
+    ROS_WARN("dvs_calibration: ~window_ms is deprecated: use ~window in seconds (%g ms read as %g s)", window_ms,
+             window_ms * 1e-3);
+    p.window_s = window_ms * 1e-3;
   }
   try
   {
-    config_.detector = parseDetectorKind(detector);
-  }
-  catch (const std::exception& e)
-  {
-    badParameter("detector", e.what());
-  }
-  if (!(spacing > 0) || spacing > 10)
-    badParameter("spacing", "must be the centre-to-centre circle distance in metres, in (0, 10], got " +
-                                std::to_string(spacing));
-  if (width < 0 || height < 0 || width > 65535 || height > 65535 || ((width == 0) != (height == 0)))
-    badParameter("width", "width and height must both be 0 (take the size from the events) or both positive");
-  if (!(window_ms >= 1 && window_ms <= 10000))
-    badParameter("window_ms", "must be in [1, 10000] ms, got " + std::to_string(window_ms));
-  if (count_threshold < 0)
-    badParameter("count_threshold", "must be >= 0 (0 = automatic), got " + std::to_string(count_threshold));
-  if (closing_size < 0 || closing_size > 15)
-    badParameter("closing_size", "must be 0..15 pixels, got " + std::to_string(closing_size));
-  if (blink_min_transitions < 1)
-    badParameter("blink_min_transitions", "must be >= 1, got " + std::to_string(blink_min_transitions));
-  if (!(min_view_difference >= 0))
-    badParameter("min_view_difference", "must be >= 0 pixels");
-  if (!(max_motion > 0))
-    badParameter("max_motion", "must be > 0 pixels");
-  if (max_views < 1)
-    badParameter("max_views", "must be >= 1");
-  if (!(max_homography_rms > 0))
-    badParameter("max_homography_rms", "must be > 0 pixels");
-  if (min_views < 3)
-    badParameter("min_views", "must be >= 3, got " + std::to_string(min_views));
-  if (!(outlier_factor > 1))
-    badParameter("outlier_factor", "must be > 1");
-  if (camera_name_.empty())
-    badParameter("camera_name", "must not be empty");
-  if (set_camera_info_service_.empty())
-    badParameter("set_camera_info_service", "must not be empty");
-  if (preview_upscale_ < 1 || preview_upscale_ > 16)
-    badParameter("preview_upscale", "must be 1..16");
-  if (output_file_.empty())
-    output_file_ = defaultOutputFile(camera_name_);
-
-  config_.width = width;
-  config_.height = height;
-  config_.window_ns = static_cast<int64_t>(window_ms * 1e6 + 0.5);
-  config_.threshold.count_threshold = count_threshold;
-  config_.threshold.closing_size = closing_size;
-  config_.blink.closing_size = closing_size;
-  config_.blink.min_transitions = blink_min_transitions;
-  config_.auto_collect = auto_collect;
-  config_.views.min_view_difference_px = min_view_difference;
-  config_.views.max_views = static_cast<size_t>(max_views);
-  config_.max_motion_px = max_motion;
-  config_.grid.max_homography_rms_px = max_homography_rms;
-  config_.calibrator.spacing_m = spacing;
-  config_.calibrator.min_views = static_cast<size_t>(min_views);
-  config_.calibrator.outlier_factor = outlier_factor;
-  config_.calibrator.estimate_k3 = estimate_k3;
-  // Validate the whole session configuration now (sensor size is checked when known).
-  SessionConfig check = config_;
-  check.width = check.width > 0 ? check.width : 128;
-  check.height = check.height > 0 ? check.height : 128;
-  try
-  {
+    dvs_driver::loadRosParams(pnh, table, {"window_ms"});
+    config_ = toSessionConfig(p);
+    // Validate the whole session configuration now (the sensor size is checked when known).
+    SessionConfig check = config_;
+    check.width = check.width > 0 ? check.width : 128;
+    check.height = check.height > 0 ? check.height : 128;
     validate(check);
   }
   catch (const std::exception& e)
   {
-    badParameter("(session)", e.what());
+    ROS_FATAL_STREAM("dvs_calibration: " << e.what());
+    throw std::invalid_argument(std::string("dvs_calibration: ") + e.what());
   }
+  start_collecting_ = p.start_collecting;
+  call_set_camera_info_ = p.call_set_camera_info;
+  set_camera_info_service_ = p.set_camera_info_service;
+  camera_name_ = p.camera_name;
+  frame_id_ = p.frame_id;
+  preview_upscale_ = p.preview_upscale;
+  output_file_ = p.output_file.empty() ? defaultOutputFile(camera_name_) : p.output_file;
 }
 
 void CalibrationRos::eventsCallback(const dvs_msgs::EventArray::ConstPtr& msg)
