@@ -120,29 +120,33 @@ ParamEntry& ParamTable::push(ParamEntry e)
   return entries_.back();
 }
 
-ParamEntry& ParamTable::add(const std::string& name, double& field, const std::string& unit, double min,
-                            double max, const std::string& doc)
+namespace
+{
+ParamEntry numberEntry(const std::string& name, const std::string& unit, double min, double max, const std::string& doc)
 {
   ParamEntry e;
   e.name = name;
-  e.d = &field;
   e.unit = unit;
   e.min = min;
   e.max = max;
   e.doc = doc;
+  return e;
+}
+}  // namespace
+
+ParamEntry& ParamTable::add(const std::string& name, double& field, const std::string& unit, double min,
+                            double max, const std::string& doc)
+{
+  ParamEntry e = numberEntry(name, unit, min, max, doc);
+  e.d = &field;
   return push(std::move(e));
 }
 
 ParamEntry& ParamTable::add(const std::string& name, int& field, const std::string& unit, int min, int max,
                             const std::string& doc)
 {
-  ParamEntry e;
-  e.name = name;
+  ParamEntry e = numberEntry(name, unit, min, max, doc);
   e.i = &field;
-  e.unit = unit;
-  e.min = min;
-  e.max = max;
-  e.doc = doc;
   return push(std::move(e));
 }
 

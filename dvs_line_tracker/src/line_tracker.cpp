@@ -71,6 +71,7 @@ LineTracker::LineTracker(const dvs_calibration::CameraModel& camera, const LineM
   , monitor_(params_)
 {
   estimator_.resize(map.segments.size(), params_.buffer_size);
+  max_backwards_ns_ = static_cast<int64_t>(params_.max_time_backwards_s * 1e9);
 }
 
 void LineTracker::reset()
@@ -84,12 +85,26 @@ void LineTracker::reset()
   stats_ = TrackerStats();
   last_loss_reason_.clear();
   last_init_ns_ = 0;
+  have_time_ = false;
+}
+
+void LineTracker::restartAfterTimeJump(int64_t t_ns)
+{
+  const double back_s = (now_ns_ - t_ns) * 1e-9;
+  TrackerStats kept = stats_;
+  reset();
+  stats_ = kept;
+  ++stats_.time_jumps;
+  last_loss_reason_ = "event time went back by " + std::to_string(back_s) + " s (a replayed recording?): restarted";
 }
 
 bool LineTracker::processEvent(const dvs_driver::Event& e)
 {
+  if (have_time_ && e.t_ns < now_ns_ - max_backwards_ns_)
+    restartAfterTimeJump(e.t_ns);
   ++stats_.events;
   now_ns_ = e.t_ns;
+  have_time_ = true;
   if (e.x >= camera_.width() || e.y >= camera_.height())
   {
     ++stats_.events_outside_sensor;

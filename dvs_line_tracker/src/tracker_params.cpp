@@ -76,6 +76,8 @@ dvs_driver::ParamTable trackerParamTable(LineTrackerParams& p, std::string& solv
   positive("max_mean_residual_px", p.max_mean_residual_px, "px", kInf, "mean residual above this: lost");
   t.add("min_attributed_ratio", p.min_attributed_ratio, "", 0, 1, "attributed / all events below this: lost");
   positive("min_depth", p.min_depth_m, "m", kInf, "map points closer (or behind): lost");
+  t.add("max_time_backwards", p.max_time_backwards_s, "s", 0, kInf,
+        "event time going back by more than this (a replayed bag) restarts the tracker");
   // Rules across parameters.
   t.addRule([&p]() -> std::string {
     return p.polygon.min_turn_angle_deg < p.polygon.max_turn_angle_deg

@@ -218,3 +218,38 @@ TEST(LineTracker, ResetReachesEveryPart)
   for (size_t i = 0; i < first_run.size(); ++i)
     ASSERT_EQ(positionError(first_run[i], second_run[i]), 0.0) << "update " << i;
 }
+
+TEST(LineTracker, RestartsAndSaysSoWhenEventTimeGoesBack)
+{
+  // A recording played twice into a running tracker (a bag looping): the second pass starts
+  // 0.6 s earlier than the first ended.
+  const SyntheticSequence seq = slowRoll(0.6);
+  LineTracker tracker(idealCamera(), defaultSquareMap());
+  for (const auto& e : seq.events)
+    tracker.processEvent(e);
+  ASSERT_EQ(tracker.state(), TrackerState::kTracking);
+  const uint64_t first_pass_inits = tracker.stats().initializations;
+  tracker.processEvent(seq.events.front());
+  EXPECT_EQ(tracker.stats().time_jumps, 1u);
+  EXPECT_EQ(tracker.state(), TrackerState::kInitializing);
+  EXPECT_NE(tracker.lastLossReason().find("event time went back by"), std::string::npos) << tracker.lastLossReason();
+  for (const auto& e : seq.events)
+    tracker.processEvent(e);
+  EXPECT_EQ(tracker.state(), TrackerState::kTracking);  // tracked again on the second pass
+  EXPECT_EQ(tracker.stats().initializations, 2 * first_pass_inits);
+  EXPECT_EQ(tracker.stats().time_jumps, 1u);
+  EXPECT_EQ(tracker.stats().events, 2 * seq.events.size() + 1);
+}
+
+TEST(LineTracker, EventsOutsideTheSensorAreCounted)
+{
+  LineTracker tracker(idealCamera(), defaultSquareMap());
+  dvs_driver::Event e;
+  e.x = 200;  // a 240-wide recording read as 128x128
+  e.y = 10;
+  EXPECT_FALSE(tracker.processEvent(e));
+  e.x = 10;
+  e.y = 128;
+  EXPECT_FALSE(tracker.processEvent(e));
+  EXPECT_EQ(tracker.stats().events_outside_sensor, 2u);
+}

@@ -39,6 +39,7 @@ struct TrackerStats
   uint64_t initializations = 0;     ///< successful (re-)initialisations, the first included
   uint64_t reinitializations = 0;   ///< successful initialisations after a loss
   uint64_t losses = 0;
+  uint64_t time_jumps = 0;          ///< restarts because event time went backwards
 };
 
 class LineTracker
@@ -65,6 +66,7 @@ public:
   const std::vector<SegmentBuffer>& buffers() const { return estimator_.buffers; }
   const EstimatorState& estimatorState() const { return estimator_; }
   const LineMap& map() const { return geometry_.map; }
+  const dvs_calibration::CameraModel& camera() const { return camera_; }
   const LineTrackerParams& params() const { return params_; }
   const PinholeK& intrinsics() const { return geometry_.k; }
   /// Where events lie inside their pixels (threshold in use, learning statistics).
@@ -83,6 +85,8 @@ public:
 
 private:
   bool startTracking(const Pose& pose);
+  /// Event time went back: forget everything time-dependent, keep the counters, say why.
+  void restartAfterTimeJump(int64_t t_ns);
   void declareLost(const std::string& reason);
 
   dvs_calibration::CameraModel camera_;
@@ -100,5 +104,7 @@ private:
   std::string last_loss_reason_;
   int64_t last_init_ns_ = 0;
   int64_t now_ns_ = 0;
+  bool have_time_ = false;  ///< now_ns_ holds an event's time
+  int64_t max_backwards_ns_ = 0;
 };
 }  // namespace dvs_line_tracker

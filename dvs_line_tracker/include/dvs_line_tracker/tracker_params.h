@@ -56,6 +56,9 @@ struct LineTrackerParams
   double max_mean_residual_px = 1.5; ///< mean |point-to-line| distance over the buffers above this -> lost
   double min_attributed_ratio = 0.02;///< attributed / all events in a check interval below this -> lost
   double min_depth_m = 0.05;         ///< map points closer (or behind) -> lost
+  /// Event time going back by more than this (a bag replayed into a running tracker) restarts
+  /// the tracker (everything time-dependent is forgotten) and says so.
+  double max_time_backwards_s = 0.1;
 };
 
 /// The table of every tracker parameter bound to the fields of `params` (names as in YAML files,

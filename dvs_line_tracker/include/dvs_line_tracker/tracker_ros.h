@@ -31,6 +31,7 @@ private:
   void publishMarkers(const ros::Time& stamp);
   void publishImage(const dvs_msgs::EventArray& msg);
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat);
+  void reportInputProblems();
 
   ros::NodeHandle nh_, pnh_;
   LineTrackerParams params_;
@@ -50,5 +51,6 @@ private:
   uint64_t events_since_diag_ = 0, updates_since_diag_ = 0;
   ros::WallTime last_diag_ = ros::WallTime::now();
   TrackerState last_state_ = TrackerState::kInitializing;
+  uint64_t reported_outside_ = 0, reported_time_jumps_ = 0;
 };
 }  // namespace dvs_line_tracker

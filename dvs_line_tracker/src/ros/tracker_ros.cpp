@@ -143,6 +143,7 @@ void TrackerRos::onEvents(const dvs_msgs::EventArrayConstPtr& msg)
     }
   }
   events_since_diag_ += msg->events.size();
+  reportInputProblems();
   if (batched && !poses->poses.empty())
   {
     poses->header.stamp = poses->poses.back().header.stamp;
@@ -150,6 +151,26 @@ void TrackerRos::onEvents(const dvs_msgs::EventArrayConstPtr& msg)
   }
   publishPacket(*msg, last_update_ns, any_update);
   diagnostics_.update();
+}
+
+void TrackerRos::reportInputProblems()
+{
+  // Dropped or repaired input is never silent: a warning at most once per second, and the
+  // counters in diagnostics (WARN while non-zero).
+  const auto& st = tracker_->stats();
+  if (st.events_outside_sensor > reported_outside_)
+  {
+    ROS_WARN_THROTTLE(1.0, "dvs_line_tracker: %llu events outside the %dx%d sensor ignored so far (wrong camera_info or "
+                           "calibration size?)",
+                      static_cast<unsigned long long>(st.events_outside_sensor), tracker_->camera().width(),
+                      tracker_->camera().height());
+    reported_outside_ = st.events_outside_sensor;
+  }
+  if (st.time_jumps > reported_time_jumps_)
+  {
+    ROS_WARN("dvs_line_tracker: %s", tracker_->lastLossReason().c_str());
+    reported_time_jumps_ = st.time_jumps;
+  }
 }
 
 void TrackerRos::publishPacket(const dvs_msgs::EventArray& msg, int64_t last_update_ns, bool any_update)
@@ -283,6 +304,10 @@ void TrackerRos::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat)
   stat.add("re-initializations", st.reinitializations);
   stat.add("losses", st.losses);
   stat.add("last loss reason", tracker_->lastLossReason());
+  stat.add("events outside the sensor", st.events_outside_sensor);
+  stat.add("restarts after time went back", st.time_jumps);
+  if (st.events_outside_sensor > 0 || st.time_jumps > 0)
+    stat.mergeSummary(diagnostic_msgs::DiagnosticStatus::WARN, "input problems (see the counters)");
   events_since_diag_ = updates_since_diag_ = 0;
 }
 }  // namespace dvs_line_tracker
