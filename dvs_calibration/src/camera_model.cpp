@@ -18,6 +18,45 @@ namespace
 bool finite(double v) { return std::isfinite(v); }
 }  // namespace
 
+namespace
+{
+/// "" when the radial distortion r_d = r (1 + k1 r^2 + k2 r^4 + k3 r^6) increases with r until
+/// it reaches the sensor's farthest corner and the corner's undistorted radius is within a
+/// factor 3 of its distorted one; else the reason.
+std::string checkRadialDistortion(const CameraIntrinsics& k)
+{
+  double rc = 0;  // distorted normalized radius of the farthest pixel corner
+  for (double x : {-0.5, k.width - 0.5})
+    for (double y : {-0.5, k.height - 0.5})
+      rc = std::max(rc, std::hypot((x - k.cx) / k.fx, (y - k.cy) / k.fy));
+  auto rd = [&](double r) {
+    const double r2 = r * r;
+    return r * (1 + r2 * (k.k1 + r2 * (k.k2 + r2 * k.k3)));
+  };
+  const int steps = 4000;
+  const double r_end = 3.0 * rc, dr = r_end / steps;
+  double prev = 0;
+  for (int i = 1; i <= steps; ++i)
+  {
+    const double r = i * dr, v = rd(r);
+    if (!(v > prev))
+      return "radial distortion k1 " + std::to_string(k.k1) + ", k2 " + std::to_string(k.k2) + ", k3 " +
+             std::to_string(k.k3) + " folds back at normalized radius " + std::to_string(r) +
+             " before the sensor's corners (" + std::to_string(rc) + "): not a lens the model can undistort";
+    if (v >= rc)
+    {
+      if (r < rc / 3.0)
+        return "radial distortion k1 " + std::to_string(k.k1) + ", k2 " + std::to_string(k.k2) + ", k3 " +
+               std::to_string(k.k3) + " shrinks the sensor's field of view more than threefold: not a real lens";
+      return "";
+    }
+    prev = v;
+  }
+  return "radial distortion k1 " + std::to_string(k.k1) + ", k2 " + std::to_string(k.k2) + ", k3 " +
+         std::to_string(k.k3) + " widens the sensor's field of view more than threefold: not a real lens";
+}
+}  // namespace
+
 CameraModel::CameraModel() : CameraModel(dvs128().intrinsics()) {}
 
 CameraModel::CameraModel(const CameraIntrinsics& k) : k_(k)
@@ -31,6 +70,20 @@ CameraModel::CameraModel(const CameraIntrinsics& k) : k_(k)
   if (k.fx <= 0 || k.fy <= 0)
     throw CameraModelError("focal lengths fx, fy must be positive (got " + std::to_string(k.fx) + ", " +
                            std::to_string(k.fy) + ")");
+  // Physical sense: the principal point near the sensor, and a distortion that maps the
+  // sensor one-to-one (radially monotonic up to its corners) without shrinking or blowing up its
+  // field of view beyond any real lens.
+  const double margin_x = 0.25 * k.width, margin_y = 0.25 * k.height;
+  if (k.cx < -margin_x || k.cx > k.width + margin_x || k.cy < -margin_y || k.cy > k.height + margin_y)
+    throw CameraModelError("principal point (" + std::to_string(k.cx) + ", " + std::to_string(k.cy) +
+                           ") is far outside the " + std::to_string(k.width) + "x" + std::to_string(k.height) +
+                           " sensor");
+  if (std::abs(k.p1) > 0.1 || std::abs(k.p2) > 0.1)
+    throw CameraModelError("tangential distortion p1, p2 must be within +-0.1 (got " + std::to_string(k.p1) + ", " +
+                           std::to_string(k.p2) + ")");
+  const std::string radial = checkRadialDistortion(k);
+  if (!radial.empty())
+    throw CameraModelError(radial);
   has_distortion_ = k.k1 != 0 || k.k2 != 0 || k.p1 != 0 || k.p2 != 0 || k.k3 != 0;
   buildLut();
 }
@@ -280,6 +333,11 @@ CameraModel loadCameraInfoYaml(const std::string& path, std::string* camera_name
     if (root["distortion_coefficients"])
     {
       std::vector<double> d = readMatrix(root, "distortion_coefficients", 0, path);
+      // rational_polynomial's k4-k6 (and anything past plumb_bob's five) cannot be dropped silently.
+      for (size_t i = 5; i < d.size(); ++i)
+        if (d[i] != 0)
+          throw CameraModelError(path + ": distortion coefficient " + std::to_string(i) + " (" + std::to_string(d[i]) +
+                                 ") is not zero: only plumb_bob's k1 k2 p1 p2 k3 are supported");
       d.resize(5, 0.0);
       k.k1 = d[0], k.k2 = d[1], k.p1 = d[2], k.p2 = d[3], k.k3 = d[4];
     }

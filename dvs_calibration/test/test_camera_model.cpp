@@ -157,3 +157,92 @@ TEST(CameraModel, CameraInfoYamlRoundTrip)
   EXPECT_THROW(dvs_calibration::loadCameraInfoYaml(path), CameraModelError);
   std::remove(path.c_str());
 }
+
+TEST(CameraModelValidation, AbsurdIntrinsicsAreRefusedWithTheReason)
+{
+  auto make = [](auto edit) {
+    dvs_calibration::CameraIntrinsics k = dvs_calibration::CameraModel::dvs128().intrinsics();
+    edit(k);
+    return k;
+  };
+  auto expectError = [](const dvs_calibration::CameraIntrinsics& k, const std::string& part) {
+    try
+    {
+      dvs_calibration::CameraModel m(k);
+      ADD_FAILURE() << "accepted, expected an error with '" << part << "'";
+    }
+    catch (const dvs_calibration::CameraModelError& e)
+    {
+      EXPECT_NE(std::string(e.what()).find(part), std::string::npos) << e.what();
+    }
+  };
+  expectError(make([](auto& k) { k.cx = 1e9; }), "principal point");
+  expectError(make([](auto& k) { k.k1 = 1e6; }), "shrinks the sensor's field of view");
+  expectError(make([](auto& k) { k.k1 = -2.0; }), "folds back");
+  expectError(make([](auto& k) { k.p1 = 0.5; }), "tangential");
+  // Real lenses pass: the presets and a wide barrel lens (k1 -0.3 at ~75 deg across 240 px).
+  EXPECT_NO_THROW(dvs_calibration::CameraModel::davis346());
+  EXPECT_NO_THROW(dvs_calibration::CameraModel(make([](auto& k) {
+    k.width = 240;
+    k.height = 180;
+    k.fx = k.fy = 155;
+    k.cx = 119.5;
+    k.cy = 89.5;
+    k.k1 = -0.3;
+    k.k2 = 0.08;
+  })));
+}
+
+TEST(CameraModelValidation, RationalPolynomialTermsAreNotDroppedSilently)
+{
+  const std::string path = tempPath("rational.yaml");
+  std::ofstream(path) << "image_width: 128\nimage_height: 128\ncamera_name: x\n"
+                         "camera_matrix: {rows: 3, cols: 3, data: [115, 0, 63.5, 0, 115, 63.5, 0, 0, 1]}\n"
+                         "distortion_model: rational_polynomial\n"
+                         "distortion_coefficients: {rows: 1, cols: 8, data: [-0.1, 0.01, 0, 0, 0, 0.2, 0, 0]}\n";
+  try
+  {
+    dvs_calibration::loadCameraInfoYaml(path);
+    FAIL() << "k4 dropped silently";
+  }
+  catch (const dvs_calibration::CameraModelError& e)
+  {
+    EXPECT_NE(std::string(e.what()).find("coefficient 5"), std::string::npos) << e.what();
+  }
+  std::ofstream(path) << "image_width: 128\nimage_height: 128\ncamera_name: x\n"
+                         "camera_matrix: {rows: 3, cols: 3, data: [115, 0, 63.5, 0, 115, 63.5, 0, 0, 1]}\n"
+                         "distortion_model: rational_polynomial\n"
+                         "distortion_coefficients: {rows: 1, cols: 8, data: [-0.1, 0.01, 0, 0, 0, 0, 0, 0]}\n";
+  EXPECT_NEAR(dvs_calibration::loadCameraInfoYaml(path).intrinsics().k1, -0.1, 1e-12);
+}
+
+TEST(CameraFile, OneRuleForCalibTxtAndYaml)
+{
+  const dvs_calibration::CameraModel cam = dvs_calibration::CameraModel::davis240();
+  const std::string txt = tempPath("rule_calib.txt"), yaml = tempPath("rule_camera.yaml");
+  dvs_calibration::saveCalibTxt(txt, cam);
+  dvs_calibration::saveCameraInfoYaml(yaml, cam, "davis");
+  EXPECT_EQ(dvs_calibration::loadCameraFile(txt, 240, 180).width(), 240);
+  EXPECT_EQ(dvs_calibration::loadCameraFile(yaml).height(), 180);
+  EXPECT_EQ(dvs_calibration::loadCameraFile(yaml, 240, 180).width(), 240);
+  try
+  {
+    dvs_calibration::loadCameraFile(txt);
+    FAIL() << "a calib.txt without a size was accepted";
+  }
+  catch (const dvs_calibration::CameraModelError& e)
+  {
+    EXPECT_NE(std::string(e.what()).find("rule_calib.txt: a calib.txt holds no sensor size"), std::string::npos)
+        << e.what();
+  }
+  try
+  {
+    dvs_calibration::loadCameraFile(yaml, 128, 128);
+    FAIL() << "a size contradicting the YAML was accepted";
+  }
+  catch (const dvs_calibration::CameraModelError& e)
+  {
+    EXPECT_NE(std::string(e.what()).find("the file says 240x180 pixels but 128x128 was given"), std::string::npos)
+        << e.what();
+  }
+}

@@ -121,9 +121,21 @@ void finalizeLineMap(LineMap& map, const std::string& name)
     Eigen::JacobiSVD<Eigen::MatrixXd> svd(a, Eigen::ComputeThinV);
     const Eigen::Vector3d normal = svd.matrixV().col(2);
     poly.planar = true;
+    double worst = 0;
     for (const auto& c : poly.corners_world)
-      if (std::abs(normal.dot(c - centroid)) > 1e-3)
-        poly.planar = false;
+      worst = std::max(worst, std::abs(normal.dot(c - centroid)));
+    // The initialisation solves a planar PnP on a polygon's corners and the tracker's attribution
+    // assumes flat faces: a warped polygon (a typo in a coordinate) would be "tracked" metres off.
+    if (worst > 1e-3)
+    {
+      std::ostringstream msg;
+      msg << name << ": the closed polygon of segments";
+      for (int id : poly.segment_ids)
+        msg << " " << id;
+      msg << " is not planar (a corner lies " << worst * 1e3
+          << " mm off the polygon's best-fit plane; corners must be within 1 mm)";
+      throw LineMapError(msg.str());
+    }
     map.polygons.push_back(poly);
   }
   if (map.polygons.empty())

@@ -71,5 +71,9 @@ TEST(LineMap, BadMapsGiveClearErrors)
   expectError("segments:\n  - [[0,0,0],[1,0,0]]\n  - [[2,0,0],[3,0,0]]", "no closed polygon");
   expectError("up: [0,0,0]\nsegments:\n  - [[0,0,0],[1,0,0]]\n  - [[1,0,0],[0,1,0]]\n  - [[0,1,0],[0,0,0]]", "up");
   expectError("segments: [[[0,0,0],[1,0,0]]", "not valid YAML");
+  // A square with one corner 5 cm out of its plane (a typo): refused, naming the deviation.
+  expectError("segments:\n  - [[0,0,0],[1,0,0]]\n  - [[1,0,0],[1,1,0.05]]\n  - [[1,1,0.05],[0,1,0]]\n"
+              "  - [[0,1,0],[0,0,0]]",
+              "is not planar (a corner lies 12.5");
   EXPECT_THROW(loadLineMap("/nonexistent/map.yaml"), LineMapError);
 }

@@ -32,6 +32,9 @@ CameraModel cameraFromCameraInfo(const sensor_msgs::CameraInfo& info)
   double* const d[5] = {&k.k1, &k.k2, &k.p1, &k.p2, &k.k3};
   for (size_t i = 0; i < info.D.size() && i < 5; ++i)
     *d[i] = info.D[i];
+  for (size_t i = 5; i < info.D.size(); ++i)
+    if (info.D[i] != 0)
+      throw CameraModelError("camera_info D[" + std::to_string(i) + "] is not zero: only plumb_bob's k1 k2 p1 p2 k3 are supported");
   return CameraModel(k);
 }
 }  // namespace dvs_calibration
