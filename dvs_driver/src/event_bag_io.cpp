@@ -1,8 +1,10 @@
 #include <dvs_driver/event_bag_io.h>
+#include <dvs_driver/event_file.h>
 
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
 
+#include <algorithm>
 #include <map>
 #include <sys/stat.h>
 
@@ -81,24 +83,24 @@ EventStream fromMessage(const dvs_msgs::EventArray& msg)
   return s;
 }
 
-EventStream readEventsBag(const std::string& path, const std::string& topic)
+BagEventSource::BagEventSource(const std::string& path, const std::string& topic)
+  : bag_(new rosbag::Bag), topic_(topic)
 {
+  info_.name = path;
   struct stat st;
   if (::stat(path.c_str(), &st) != 0)
     throw EventBagError(path + ": bag file does not exist");
-  rosbag::Bag bag;
   try
   {
-    bag.open(path, rosbag::bagmode::Read);
+    bag_->open(path, rosbag::bagmode::Read);
   }
   catch (const rosbag::BagException& e)
   {
     throw EventBagError(path + ": cannot open bag: " + e.what());
   }
-  EventStream stream;
   try
   {
-    rosbag::View all(bag);
+    rosbag::View all(*bag_);
     std::map<std::string, std::string> topics;
     const std::string want_type = ros::message_traits::DataType<dvs_msgs::EventArray>::value();
     bool found = false;
@@ -124,29 +126,90 @@ EventStream readEventsBag(const std::string& path, const std::string& topic)
       throw EventBagError(path + ": no topic " + topic + " in the bag; topics present: " +
                           (list.empty() ? std::string("(none)") : list));
     }
-    rosbag::View view(bag, rosbag::TopicQuery(topic));
-    size_t n = 0;
-    for (const rosbag::MessageInstance& m : view)
+    view_.reset(new rosbag::View(*bag_, rosbag::TopicQuery(topic)));
+    // The sensor size: that of the first message that states one (usually the first).
+    for (const rosbag::MessageInstance& m : *view_)
     {
       dvs_msgs::EventArrayConstPtr msg = m.instantiate<dvs_msgs::EventArray>();
-      if (!msg)
-        continue;
-      if (stream.width == 0 && stream.height == 0)
+      if (msg && (msg->width != 0 || msg->height != 0))
       {
-        stream.width = msg->width;
-        stream.height = msg->height;
+        info_.width = msg->width;
+        info_.height = msg->height;
+        break;
       }
-      if (n == 0)
-        stream.events.reserve(view.size() * msg->events.size());
-      appendFromMessage(*msg, stream.events);
-      ++n;
     }
   }
   catch (const rosbag::BagException& e)
   {
     throw EventBagError(path + ": error reading bag: " + e.what());
   }
+  rewind();
+}
+
+BagEventSource::~BagEventSource() = default;
+
+void BagEventSource::rewind()
+{
+  it_ = view_->begin();
+  pending_.reset();
+  pending_next_ = 0;
+}
+
+size_t BagEventSource::read(EventVector& out, size_t max_events)
+{
+  size_t n = 0;
+  try
+  {
+    while (n < max_events)
+    {
+      if (!pending_)
+      {
+        if (it_ == view_->end())
+          break;
+        pending_ = it_->instantiate<dvs_msgs::EventArray>();
+        ++it_;
+        pending_next_ = 0;
+        if (!pending_)
+          continue;
+      }
+      const size_t take = std::min(max_events - n, pending_->events.size() - pending_next_);
+      const size_t old = out.size();
+      out.resize(old + take);
+      for (size_t k = 0; k < take; ++k)
+      {
+        const dvs_msgs::Event& e = pending_->events[pending_next_ + k];
+        out[old + k] = Event{rosTimeToNs(e.ts), e.x, e.y, static_cast<bool>(e.polarity)};
+      }
+      n += take;
+      pending_next_ += take;
+      if (pending_next_ == pending_->events.size())
+        pending_.reset();
+    }
+  }
+  catch (const rosbag::BagException& e)
+  {
+    throw EventBagError(info_.name + ": error reading bag: " + e.what());
+  }
+  return n;
+}
+
+EventStream readEventsBag(const std::string& path, const std::string& topic)
+{
+  BagEventSource source(path, topic);
+  EventStream stream;
+  stream.width = source.info().width;
+  stream.height = source.info().height;
+  while (source.read(stream.events, 1 << 20) > 0)
+  {
+  }
   return stream;
+}
+
+std::unique_ptr<EventSource> openEventSource(const std::string& path, const std::string& topic)
+{
+  if (eventFileFormat(path) == EventFileFormat::Bag)
+    return std::unique_ptr<EventSource>(new BagEventSource(path, topic));
+  return openEventFile(path);
 }
 
 size_t writeEventsBag(rosbag::Bag& bag, const std::string& topic, const EventVector& events, uint32_t width,
