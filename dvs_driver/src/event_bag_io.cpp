@@ -83,8 +83,16 @@ EventStream fromMessage(const dvs_msgs::EventArray& msg)
   return s;
 }
 
-BagEventSource::BagEventSource(const std::string& path, const std::string& topic)
-  : bag_(new rosbag::Bag), topic_(topic)
+struct BagEventSource::Reader
+{
+  rosbag::Bag bag;
+  std::unique_ptr<rosbag::View> view;
+  rosbag::View::iterator it;
+  dvs_msgs::EventArrayConstPtr pending;
+  size_t pending_next = 0;
+};
+
+BagEventSource::BagEventSource(const std::string& path, const std::string& topic) : reader_(new Reader)
 {
   info_.name = path;
   struct stat st;
@@ -92,7 +100,7 @@ BagEventSource::BagEventSource(const std::string& path, const std::string& topic
     throw EventBagError(path + ": bag file does not exist");
   try
   {
-    bag_->open(path, rosbag::bagmode::Read);
+    reader_->bag.open(path, rosbag::bagmode::Read);
   }
   catch (const rosbag::BagException& e)
   {
@@ -100,7 +108,7 @@ BagEventSource::BagEventSource(const std::string& path, const std::string& topic
   }
   try
   {
-    rosbag::View all(*bag_);
+    rosbag::View all(reader_->bag);
     std::map<std::string, std::string> topics;
     const std::string want_type = ros::message_traits::DataType<dvs_msgs::EventArray>::value();
     bool found = false;
@@ -126,9 +134,9 @@ BagEventSource::BagEventSource(const std::string& path, const std::string& topic
       throw EventBagError(path + ": no topic " + topic + " in the bag; topics present: " +
                           (list.empty() ? std::string("(none)") : list));
     }
-    view_.reset(new rosbag::View(*bag_, rosbag::TopicQuery(topic)));
+    reader_->view.reset(new rosbag::View(reader_->bag, rosbag::TopicQuery(topic)));
     // The sensor size: that of the first message that states one (usually the first).
-    for (const rosbag::MessageInstance& m : *view_)
+    for (const rosbag::MessageInstance& m : *reader_->view)
     {
       dvs_msgs::EventArrayConstPtr msg = m.instantiate<dvs_msgs::EventArray>();
       if (msg && (msg->width != 0 || msg->height != 0))
@@ -150,40 +158,41 @@ BagEventSource::~BagEventSource() = default;
 
 void BagEventSource::rewind()
 {
-  it_ = view_->begin();
-  pending_.reset();
-  pending_next_ = 0;
+  reader_->it = reader_->view->begin();
+  reader_->pending.reset();
+  reader_->pending_next = 0;
 }
 
 size_t BagEventSource::read(EventVector& out, size_t max_events)
 {
+  Reader& r = *reader_;
   size_t n = 0;
   try
   {
     while (n < max_events)
     {
-      if (!pending_)
+      if (!r.pending)
       {
-        if (it_ == view_->end())
+        if (r.it == r.view->end())
           break;
-        pending_ = it_->instantiate<dvs_msgs::EventArray>();
-        ++it_;
-        pending_next_ = 0;
-        if (!pending_)
+        r.pending = r.it->instantiate<dvs_msgs::EventArray>();
+        ++r.it;
+        r.pending_next = 0;
+        if (!r.pending)
           continue;
       }
-      const size_t take = std::min(max_events - n, pending_->events.size() - pending_next_);
+      const size_t take = std::min(max_events - n, r.pending->events.size() - r.pending_next);
       const size_t old = out.size();
       out.resize(old + take);
       for (size_t k = 0; k < take; ++k)
       {
-        const dvs_msgs::Event& e = pending_->events[pending_next_ + k];
+        const dvs_msgs::Event& e = r.pending->events[r.pending_next + k];
         out[old + k] = Event{rosTimeToNs(e.ts), e.x, e.y, static_cast<bool>(e.polarity)};
       }
       n += take;
-      pending_next_ += take;
-      if (pending_next_ == pending_->events.size())
-        pending_.reset();
+      r.pending_next += take;
+      if (r.pending_next == r.pending->events.size())
+        r.pending.reset();
     }
   }
   catch (const rosbag::BagException& e)

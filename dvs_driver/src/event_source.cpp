@@ -22,7 +22,7 @@ std::unique_ptr<EventSource> openEventFile(const std::string& path)
     case EventFileFormat::Bag:
       break;
   }
-  throw EventFileError(path + ": bags are streamed by dvs_driver::openEventBag (library dvs_driver_ros)");
+  throw EventFileError(path + ": bags are streamed by dvs_driver::openEventSource / BagEventSource (library dvs_driver_ros)");
 }
 
 MemoryEventSource::MemoryEventSource(EventStream stream, const std::string& name) : stream_(std::move(stream))

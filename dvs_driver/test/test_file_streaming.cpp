@@ -231,7 +231,7 @@ TEST(FileStreaming, UnreadableFilesGiveErrorsNamingThem)
   const std::string err = errorOf(not_aedat);
   EXPECT_NE(std::string::npos, err.find(not_aedat)) << err;
   EXPECT_NE(std::string::npos, err.find("not an AEDAT file")) << err;
-  EXPECT_NE(std::string::npos, errorOf("x.bag").find("openEventBag"));
+  EXPECT_NE(std::string::npos, errorOf("x.bag").find("BagEventSource"));
   std::remove(not_aedat.c_str());
 }
 

@@ -9,12 +9,15 @@
 #include <dvs_driver/event_text_io.h>
 #include <dvs_msgs/EventArray.h>
 #include <ros/time.h>
-#include <rosbag/bag.h>
-#include <rosbag/view.h>
 
 #include <memory>
 #include <string>
 
+
+namespace rosbag
+{
+class Bag;
+}
 
 namespace dvs_driver
 {
@@ -72,13 +75,9 @@ public:
   void rewind() override;
 
 private:
-  std::unique_ptr<rosbag::Bag> bag_;
-  std::unique_ptr<rosbag::View> view_;
-  std::string topic_;
+  struct Reader;  // the bag, its view and where the reading stands (rosbag headers stay out)
+  std::unique_ptr<Reader> reader_;
   EventSourceInfo info_;
-  rosbag::View::iterator it_;
-  dvs_msgs::EventArrayConstPtr pending_;
-  size_t pending_next_ = 0;
 };
 
 /// Any recorded event file for streaming: a `.bag` (topic `topic`) or what openEventFile opens.
