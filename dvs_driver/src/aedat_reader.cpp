@@ -5,6 +5,7 @@
 #include <cstring>
 #include <fstream>
 #include <iterator>
+#include <algorithm>
 #include <vector>
 
 namespace dvs_driver
@@ -56,7 +57,11 @@ size_t findAedatDataOffset(const uint8_t* data, size_t size)
   }
 }
 
-AedatRecording readAedat(const uint8_t* data, size_t size, const std::string& name)
+namespace
+{
+// Checks magic and version, finds the data offset, and reads the sensor from the header
+// (`# AEChip:`, else the HardwareInterface line). Returns false when the header does not say.
+bool parseAedatHeader(const uint8_t* data, size_t size, const std::string& name, AedatInfo& info)
 {
   static const char kMagic[] = "#!AER-DAT";
   if (size < sizeof(kMagic) - 1 || std::memcmp(data, kMagic, sizeof(kMagic) - 1) != 0)
@@ -65,13 +70,7 @@ AedatRecording readAedat(const uint8_t* data, size_t size, const std::string& na
   const std::string first = first_end ? lineText(data, 0, first_end) : std::string();
   if (first != "#!AER-DAT2.0")
     throw AedatError(name + ": unsupported AEDAT version `" + first.substr(0, 40) + "` (only #!AER-DAT2.0 is read)");
-
-  AedatRecording rec;
-  AedatInfo& info = rec.info;
   info.data_offset = findAedatDataOffset(data, size);
-
-  // Sensor: from the `# AEChip:` line, else the HardwareInterface line, else DVS128 if every
-  // address fits the DVS128's 16 bits.
   std::string hw;
   for (size_t pos = 0; pos < info.data_offset;)
   {
@@ -84,10 +83,6 @@ AedatRecording readAedat(const uint8_t* data, size_t size, const std::string& na
     else if (line.rfind("# HardwareInterface:", 0) == 0)
       hw = line;
   }
-  const uint8_t* records = data + info.data_offset;
-  const size_t record_bytes = size - info.data_offset;
-  info.records = record_bytes / 8;
-  info.truncated_bytes = record_bytes % 8;
   const std::string chip = info.ae_chip.empty() ? hw : info.ae_chip;
   if (chip.find("DAVIS346") != std::string::npos)
     info.sensor = AedatSensor::DAVIS346;
@@ -96,103 +91,141 @@ AedatRecording readAedat(const uint8_t* data, size_t size, const std::string& na
   else if (chip.find("DVS128") != std::string::npos)
     info.sensor = AedatSensor::DVS128;
   else
-  {
-    for (uint64_t i = 0; i < info.records; ++i)
-      if (be32(records + 8 * i) > 0xFFFFu)
-        throw AedatError(name + ": cannot tell the sensor: no `# AEChip:` header line names DVS128, DAVIS240 "
-                                "or DAVIS346, and addresses exceed the DVS128's 16 bits (AEChip: `" +
-                         info.ae_chip + "`)");
-    info.sensor = AedatSensor::DVS128;
-  }
-  EventStream& stream = rec.stream;
+    return false;
+  return true;
+}
+
+// Sensor not named in the header: DVS128 if every address fits its 16 bits, else an error.
+void checkDvs128Addresses(const uint8_t* records, uint64_t n, const std::string& name, const AedatInfo& info)
+{
+  for (uint64_t i = 0; i < n; ++i)
+    if (be32(records + 8 * i) > 0xFFFFu)
+      throw AedatError(name + ": cannot tell the sensor: no `# AEChip:` header line names DVS128, DAVIS240 "
+                              "or DAVIS346, and addresses exceed the DVS128's 16 bits (AEChip: `" +
+                       info.ae_chip + "`)");
+}
+
+void setSensorSize(AedatInfo& info, uint32_t& width, uint32_t& height)
+{
   switch (info.sensor)
   {
     case AedatSensor::DVS128:
       info.sensor_name = "DVS128";
-      stream.width = 128;
-      stream.height = 128;
+      width = 128;
+      height = 128;
       break;
     case AedatSensor::DAVIS240:
       info.sensor_name = "DAVIS240";
-      stream.width = 240;
-      stream.height = 180;
+      width = 240;
+      height = 180;
       break;
     case AedatSensor::DAVIS346:
       info.sensor_name = "DAVIS346";
-      stream.width = 346;
-      stream.height = 260;
+      width = 346;
+      height = 260;
       break;
   }
+}
+}  // namespace
 
-  stream.events.reserve(info.records);
-  const bool dvs128 = info.sensor == AedatSensor::DVS128;
-  const uint32_t W = stream.width, H = stream.height;
+// The records of one file in order, in as many pieces as wanted: int32 wraps unwrapped and
+// backwards times clamped across pieces.
+struct AedatRecordDecoder
+{
   int64_t wrap_offset = 0;
   int32_t last_raw = 0;
   int64_t last_t_us = INT64_MIN;
-  for (uint64_t i = 0; i < info.records; ++i)
+  bool first = true;
+
+  void decode(const uint8_t* records, uint64_t n, AedatInfo& info, uint32_t W, uint32_t H, EventVector& out)
   {
-    const uint8_t* r = records + 8 * i;
-    const uint32_t addr = be32(r);
-    const int32_t ts = static_cast<int32_t>(be32(r + 4));
-    // Unwrap int32 overflow: a jump back by more than half the range is a wrap, not disorder.
-    if (i > 0 && static_cast<int64_t>(ts) - last_raw < -(int64_t(1) << 31))
+    const bool dvs128 = info.sensor == AedatSensor::DVS128;
+    for (uint64_t i = 0; i < n; ++i)
     {
-      wrap_offset += int64_t(1) << 32;
-      ++info.timestamp_wraps;
+      const uint8_t* r = records + 8 * i;
+      const uint32_t addr = be32(r);
+      const int32_t ts = static_cast<int32_t>(be32(r + 4));
+      // Unwrap int32 overflow: a jump back by more than half the range is a wrap, not disorder.
+      if (!first && static_cast<int64_t>(ts) - last_raw < -(int64_t(1) << 31))
+      {
+        wrap_offset += int64_t(1) << 32;
+        ++info.timestamp_wraps;
+      }
+      first = false;
+      last_raw = ts;
+      Event e;
+      if (dvs128)
+      {
+        if (addr > 0xFFFFu)
+        {
+          ++info.out_of_range;
+          continue;
+        }
+        if (!decodeDvs128Address(addr, e.x, e.y, e.polarity))
+        {
+          ++info.sync_events;
+          continue;
+        }
+      }
+      else
+      {
+        if (addr & 0x80000000u)
+        {
+          if ((addr & 0x80000C00u) == 0x80000C00u)
+            ++info.imu_samples;
+          else
+            ++info.aps_samples;
+          continue;
+        }
+        if (addr & 0x400u)
+        {
+          ++info.sync_events;
+          continue;
+        }
+        const uint32_t y_up = (addr >> 22) & 0x1FFu;
+        const uint32_t raw_x = (addr >> 12) & 0x3FFu;
+        if (raw_x >= W || y_up >= H)
+        {
+          ++info.out_of_range;
+          continue;
+        }
+        e.x = static_cast<uint16_t>(W - 1 - raw_x);
+        e.y = static_cast<uint16_t>(H - 1 - y_up);
+        e.polarity = (addr >> 11) & 1u;
+      }
+      int64_t t_us = wrap_offset + ts;
+      if (t_us < last_t_us)
+      {
+        ++info.non_monotonic;
+        t_us = last_t_us;
+      }
+      last_t_us = t_us;
+      e.t_ns = t_us * 1000;
+      out.push_back(e);
+      ++info.dvs_events;
     }
-    last_raw = ts;
-    Event e;
-    if (dvs128)
-    {
-      if (addr > 0xFFFFu)
-      {
-        ++info.out_of_range;
-        continue;
-      }
-      if (!decodeDvs128Address(addr, e.x, e.y, e.polarity))
-      {
-        ++info.sync_events;
-        continue;
-      }
-    }
-    else
-    {
-      if (addr & 0x80000000u)
-      {
-        if ((addr & 0x80000C00u) == 0x80000C00u)
-          ++info.imu_samples;
-        else
-          ++info.aps_samples;
-        continue;
-      }
-      if (addr & 0x400u)
-      {
-        ++info.sync_events;
-        continue;
-      }
-      const uint32_t y_up = (addr >> 22) & 0x1FFu;
-      const uint32_t raw_x = (addr >> 12) & 0x3FFu;
-      if (raw_x >= W || y_up >= H)
-      {
-        ++info.out_of_range;
-        continue;
-      }
-      e.x = static_cast<uint16_t>(W - 1 - raw_x);
-      e.y = static_cast<uint16_t>(H - 1 - y_up);
-      e.polarity = (addr >> 11) & 1u;
-    }
-    int64_t t_us = wrap_offset + ts;
-    if (t_us < last_t_us)
-    {
-      ++info.non_monotonic;
-      t_us = last_t_us;
-    }
-    last_t_us = t_us;
-    e.t_ns = t_us * 1000;
-    stream.events.push_back(e);
   }
-  info.dvs_events = stream.events.size();
+};
+
+AedatRecording readAedat(const uint8_t* data, size_t size, const std::string& name)
+{
+  AedatRecording rec;
+  AedatInfo& info = rec.info;
+  const bool known = parseAedatHeader(data, size, name, info);
+  const uint8_t* records = data + info.data_offset;
+  const size_t record_bytes = size - info.data_offset;
+  info.records = record_bytes / 8;
+  info.truncated_bytes = record_bytes % 8;
+  if (!known)
+  {
+    checkDvs128Addresses(records, info.records, name, info);
+    info.sensor = AedatSensor::DVS128;
+  }
+  EventStream& stream = rec.stream;
+  setSensorSize(info, stream.width, stream.height);
+  stream.events.reserve(info.records);
+  AedatRecordDecoder decoder;
+  decoder.decode(records, info.records, info, stream.width, stream.height, stream.events);
   return rec;
 }
 
@@ -205,5 +238,86 @@ AedatRecording readAedat(const std::string& path)
   if (in.bad())
     throw AedatError(path + ": read error");
   return readAedat(bytes.data(), bytes.size(), path);
+}
+
+AedatFileSource::AedatFileSource(const std::string& path) : in_(path, std::ios::binary), decoder_(new AedatRecordDecoder)
+{
+  info_.name = path;
+  if (!in_)
+    throw AedatError(path + ": cannot open AEDAT file: " + std::strerror(errno));
+  in_.seekg(0, std::ios::end);
+  const uint64_t file_size = static_cast<uint64_t>(in_.tellg());
+  in_.seekg(0);
+  // Read the header: a prefix that grows until its last header line is complete.
+  std::vector<uint8_t> prefix;
+  size_t want = 65536;
+  bool known = false;
+  while (true)
+  {
+    prefix.resize(static_cast<size_t>(std::min<uint64_t>(want, file_size)));
+    in_.seekg(0);
+    in_.read(reinterpret_cast<char*>(prefix.data()), static_cast<std::streamsize>(prefix.size()));
+    if (!in_)
+      throw AedatError(path + ": read error");
+    known = parseAedatHeader(prefix.data(), prefix.size(), path, aedat_);
+    const size_t off = aedat_.data_offset;
+    const bool cut = prefix.size() < file_size && off < prefix.size() && prefix[off] == '#' &&
+                     std::memchr(prefix.data() + off, '\n', prefix.size() - off) == nullptr;
+    if (!cut)
+      break;
+    want *= 2;
+    aedat_ = AedatInfo();
+  }
+  aedat_.records = (file_size - aedat_.data_offset) / 8;
+  aedat_.truncated_bytes = static_cast<size_t>((file_size - aedat_.data_offset) % 8);
+  if (!known)
+  {
+    // The header does not name the sensor: every address must fit the DVS128 (read in pieces).
+    in_.seekg(static_cast<std::streamoff>(aedat_.data_offset));
+    for (uint64_t done = 0; done < aedat_.records;)
+    {
+      const uint64_t n = std::min<uint64_t>(aedat_.records - done, 131072);
+      bytes_.resize(static_cast<size_t>(n * 8));
+      in_.read(reinterpret_cast<char*>(bytes_.data()), static_cast<std::streamsize>(bytes_.size()));
+      if (!in_)
+        throw AedatError(path + ": read error");
+      checkDvs128Addresses(bytes_.data(), n, path, aedat_);
+      done += n;
+    }
+    aedat_.sensor = AedatSensor::DVS128;
+  }
+  setSensorSize(aedat_, info_.width, info_.height);
+  info_.sensor_name = aedat_.sensor_name;
+  info_.truncated_bytes = aedat_.truncated_bytes;
+  rewind();
+}
+
+AedatFileSource::~AedatFileSource() = default;
+
+size_t AedatFileSource::read(EventVector& out, size_t max_events)
+{
+  const size_t before = out.size();
+  while (out.size() - before < max_events && next_record_ < aedat_.records)
+  {
+    // Enough records for the events still wanted (fewer when some are not pixel events).
+    const uint64_t n = std::min<uint64_t>(aedat_.records - next_record_, max_events - (out.size() - before));
+    bytes_.resize(static_cast<size_t>(n * 8));
+    in_.read(reinterpret_cast<char*>(bytes_.data()), static_cast<std::streamsize>(bytes_.size()));
+    if (!in_)
+      throw AedatError(info_.name + ": read error at record " + std::to_string(next_record_));
+    decoder_->decode(bytes_.data(), n, aedat_, info_.width, info_.height, out);
+    next_record_ += n;
+  }
+  return out.size() - before;
+}
+
+void AedatFileSource::rewind()
+{
+  in_.clear();
+  in_.seekg(static_cast<std::streamoff>(aedat_.data_offset));
+  *decoder_ = AedatRecordDecoder();
+  next_record_ = 0;
+  aedat_.dvs_events = aedat_.sync_events = aedat_.aps_samples = aedat_.imu_samples = 0;
+  aedat_.out_of_range = aedat_.non_monotonic = aedat_.timestamp_wraps = 0;
 }
 }  // namespace dvs_driver

@@ -1,8 +1,10 @@
 #include <dvs_driver/event_bag_io.h>
+#include <dvs_driver/event_file.h>
 
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
 
+#include <algorithm>
 #include <map>
 #include <sys/stat.h>
 
@@ -81,24 +83,32 @@ EventStream fromMessage(const dvs_msgs::EventArray& msg)
   return s;
 }
 
-EventStream readEventsBag(const std::string& path, const std::string& topic)
+struct BagEventSource::Reader
 {
+  rosbag::Bag bag;
+  std::unique_ptr<rosbag::View> view;
+  rosbag::View::iterator it;
+  dvs_msgs::EventArrayConstPtr pending;
+  size_t pending_next = 0;
+};
+
+BagEventSource::BagEventSource(const std::string& path, const std::string& topic) : reader_(new Reader)
+{
+  info_.name = path;
   struct stat st;
   if (::stat(path.c_str(), &st) != 0)
     throw EventBagError(path + ": bag file does not exist");
-  rosbag::Bag bag;
   try
   {
-    bag.open(path, rosbag::bagmode::Read);
+    reader_->bag.open(path, rosbag::bagmode::Read);
   }
   catch (const rosbag::BagException& e)
   {
     throw EventBagError(path + ": cannot open bag: " + e.what());
   }
-  EventStream stream;
   try
   {
-    rosbag::View all(bag);
+    rosbag::View all(reader_->bag);
     std::map<std::string, std::string> topics;
     const std::string want_type = ros::message_traits::DataType<dvs_msgs::EventArray>::value();
     bool found = false;
@@ -124,29 +134,91 @@ EventStream readEventsBag(const std::string& path, const std::string& topic)
       throw EventBagError(path + ": no topic " + topic + " in the bag; topics present: " +
                           (list.empty() ? std::string("(none)") : list));
     }
-    rosbag::View view(bag, rosbag::TopicQuery(topic));
-    size_t n = 0;
-    for (const rosbag::MessageInstance& m : view)
+    reader_->view.reset(new rosbag::View(reader_->bag, rosbag::TopicQuery(topic)));
+    // The sensor size: that of the first message that states one (usually the first).
+    for (const rosbag::MessageInstance& m : *reader_->view)
     {
       dvs_msgs::EventArrayConstPtr msg = m.instantiate<dvs_msgs::EventArray>();
-      if (!msg)
-        continue;
-      if (stream.width == 0 && stream.height == 0)
+      if (msg && (msg->width != 0 || msg->height != 0))
       {
-        stream.width = msg->width;
-        stream.height = msg->height;
+        info_.width = msg->width;
+        info_.height = msg->height;
+        break;
       }
-      if (n == 0)
-        stream.events.reserve(view.size() * msg->events.size());
-      appendFromMessage(*msg, stream.events);
-      ++n;
     }
   }
   catch (const rosbag::BagException& e)
   {
     throw EventBagError(path + ": error reading bag: " + e.what());
   }
+  rewind();
+}
+
+BagEventSource::~BagEventSource() = default;
+
+void BagEventSource::rewind()
+{
+  reader_->it = reader_->view->begin();
+  reader_->pending.reset();
+  reader_->pending_next = 0;
+}
+
+size_t BagEventSource::read(EventVector& out, size_t max_events)
+{
+  Reader& r = *reader_;
+  size_t n = 0;
+  try
+  {
+    while (n < max_events)
+    {
+      if (!r.pending)
+      {
+        if (r.it == r.view->end())
+          break;
+        r.pending = r.it->instantiate<dvs_msgs::EventArray>();
+        ++r.it;
+        r.pending_next = 0;
+        if (!r.pending)
+          continue;
+      }
+      const size_t take = std::min(max_events - n, r.pending->events.size() - r.pending_next);
+      const size_t old = out.size();
+      out.resize(old + take);
+      for (size_t k = 0; k < take; ++k)
+      {
+        const dvs_msgs::Event& e = r.pending->events[r.pending_next + k];
+        out[old + k] = Event{rosTimeToNs(e.ts), e.x, e.y, static_cast<bool>(e.polarity)};
+      }
+      n += take;
+      r.pending_next += take;
+      if (r.pending_next == r.pending->events.size())
+        r.pending.reset();
+    }
+  }
+  catch (const rosbag::BagException& e)
+  {
+    throw EventBagError(info_.name + ": error reading bag: " + e.what());
+  }
+  return n;
+}
+
+EventStream readEventsBag(const std::string& path, const std::string& topic)
+{
+  BagEventSource source(path, topic);
+  EventStream stream;
+  stream.width = source.info().width;
+  stream.height = source.info().height;
+  while (source.read(stream.events, 1 << 20) > 0)
+  {
+  }
   return stream;
+}
+
+std::unique_ptr<EventSource> openEventSource(const std::string& path, const std::string& topic)
+{
+  if (eventFileFormat(path) == EventFileFormat::Bag)
+    return std::unique_ptr<EventSource>(new BagEventSource(path, topic));
+  return openEventFile(path);
 }
 
 size_t writeEventsBag(rosbag::Bag& bag, const std::string& topic, const EventVector& events, uint32_t width,

@@ -1,4 +1,5 @@
 #include <dvs_driver/event_file.h>
+#include <dvs_driver/event_source.h>
 #include <dvs_driver/event_text_io.h>
 
 #include <algorithm>
@@ -50,26 +51,8 @@ EventFileContents readEventFile(const std::string& path)
 
 std::string inferSensorSize(const EventVector& events, uint32_t& width, uint32_t& height)
 {
-  uint32_t max_x = 0, max_y = 0;
-  for (const Event& e : events)
-  {
-    max_x = std::max<uint32_t>(max_x, e.x);
-    max_y = std::max<uint32_t>(max_y, e.y);
-  }
-  struct Known
-  {
-    const char* name;
-    uint32_t w, h;
-  } known[] = {{"DVS128", 128, 128}, {"DAVIS240", 240, 180}, {"DAVIS346", 346, 260}};
-  for (const Known& k : known)
-    if (max_x < k.w && max_y < k.h)
-    {
-      width = k.w;
-      height = k.h;
-      return k.name;
-    }
-  width = max_x + 1;
-  height = max_y + 1;
-  return "";
+  SensorBounds bounds;
+  bounds.add(events.data(), events.data() + events.size());
+  return bounds.sensor(width, height);
 }
 }  // namespace dvs_driver

@@ -96,51 +96,56 @@ bool parseSecondsToNs(const char* b, const char* e, int64_t& ns)
   return true;
 }
 
+// One line of events.txt: false for a blank or comment line, else the event. Throws naming
+// `name` and the line on malformed lines and on times that go backwards from `last_t`.
+bool parseEventLine(const std::string& line, const std::string& name, size_t line_no, int64_t& last_t, Event& ev)
+{
+  const char* p = line.data();
+  const char* end = p + line.size();
+  p = skipSpace(p, end);
+  if (p == end || *p == '#')
+    return false;
+  const char* tok[4];
+  const char* tok_end[4];
+  for (int i = 0; i < 4; ++i)
+  {
+    p = skipSpace(p, end);
+    if (p == end)
+      fail(name, line_no, "expected 4 fields `t x y p`, got " + std::to_string(i));
+    tok[i] = p;
+    p = tokenEnd(p, end);
+    tok_end[i] = p;
+  }
+  if (skipSpace(p, end) != end)
+    fail(name, line_no, "more than 4 fields (expected `t x y p`)");
+  if (!parseSecondsToNs(tok[0], tok_end[0], ev.t_ns))
+    fail(name, line_no, "time `" + std::string(tok[0], tok_end[0]) + "` is not a number of seconds");
+  long x, y, pol;
+  if (!parseInt(tok[1], tok_end[1], x) || !parseInt(tok[2], tok_end[2], y))
+    fail(name, line_no, "pixel coordinates must be integers");
+  if (x < 0 || y < 0 || x > 65535 || y > 65535)
+    fail(name, line_no, "pixel (" + std::to_string(x) + ", " + std::to_string(y) + ") out of range");
+  if (!parseInt(tok[3], tok_end[3], pol) || (pol != 0 && pol != 1))
+    fail(name, line_no, "polarity must be 0 or 1");
+  if (ev.t_ns < last_t)
+    fail(name, line_no, "time goes backwards (events.txt must be sorted by time)");
+  last_t = ev.t_ns;
+  ev.x = static_cast<uint16_t>(x);
+  ev.y = static_cast<uint16_t>(y);
+  ev.polarity = pol == 1;
+  return true;
+}
+
 EventVector readEventsText(std::istream& in, const std::string& name)
 {
   EventVector events;
   std::string line;
   size_t line_no = 0;
   int64_t last_t = INT64_MIN;
+  Event ev;
   while (std::getline(in, line))
-  {
-    ++line_no;
-    const char* p = line.data();
-    const char* end = p + line.size();
-    p = skipSpace(p, end);
-    if (p == end || *p == '#')
-      continue;
-    const char* tok[4];
-    const char* tok_end[4];
-    for (int i = 0; i < 4; ++i)
-    {
-      p = skipSpace(p, end);
-      if (p == end)
-        fail(name, line_no, "expected 4 fields `t x y p`, got " + std::to_string(i));
-      tok[i] = p;
-      p = tokenEnd(p, end);
-      tok_end[i] = p;
-    }
-    if (skipSpace(p, end) != end)
-      fail(name, line_no, "more than 4 fields (expected `t x y p`)");
-    Event ev;
-    if (!parseSecondsToNs(tok[0], tok_end[0], ev.t_ns))
-      fail(name, line_no, "time `" + std::string(tok[0], tok_end[0]) + "` is not a number of seconds");
-    long x, y, pol;
-    if (!parseInt(tok[1], tok_end[1], x) || !parseInt(tok[2], tok_end[2], y))
-      fail(name, line_no, "pixel coordinates must be integers");
-    if (x < 0 || y < 0 || x > 65535 || y > 65535)
-      fail(name, line_no, "pixel (" + std::to_string(x) + ", " + std::to_string(y) + ") out of range");
-    if (!parseInt(tok[3], tok_end[3], pol) || (pol != 0 && pol != 1))
-      fail(name, line_no, "polarity must be 0 or 1");
-    if (ev.t_ns < last_t)
-      fail(name, line_no, "time goes backwards (events.txt must be sorted by time)");
-    last_t = ev.t_ns;
-    ev.x = static_cast<uint16_t>(x);
-    ev.y = static_cast<uint16_t>(y);
-    ev.polarity = pol == 1;
-    events.push_back(ev);
-  }
+    if (parseEventLine(line, name, ++line_no, last_t, ev))
+      events.push_back(ev);
   if (in.bad())
     throw EventFileError(name + ": read error");
   return events;
@@ -152,6 +157,36 @@ EventVector readEventsText(const std::string& path)
   if (!in)
     throw EventFileError(path + ": cannot open events file: " + std::strerror(errno));
   return readEventsText(in, path);
+}
+
+TextFileSource::TextFileSource(const std::string& path) : in_(path)
+{
+  info_.name = path;
+  if (!in_)
+    throw EventFileError(path + ": cannot open events file: " + std::strerror(errno));
+}
+
+size_t TextFileSource::read(EventVector& out, size_t max_events)
+{
+  size_t n = 0;
+  Event ev;
+  while (n < max_events && std::getline(in_, line_))
+    if (parseEventLine(line_, info_.name, ++line_no_, last_t_, ev))
+    {
+      out.push_back(ev);
+      ++n;
+    }
+  if (in_.bad())
+    throw EventFileError(info_.name + ": read error");
+  return n;
+}
+
+void TextFileSource::rewind()
+{
+  in_.clear();
+  in_.seekg(0);
+  line_no_ = 0;
+  last_t_ = INT64_MIN;
 }
 
 std::string formatEventLine(const Event& e)

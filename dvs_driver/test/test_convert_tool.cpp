@@ -85,6 +85,30 @@ TEST(ConvertTool, DavisToBagIn1msPacketsAndBack)
   std::remove(txt.c_str());
 }
 
+TEST(ConvertTool, PacketPeriodInSecondsAndTheDeprecatedMilliseconds)
+{
+  // 5 ms packets: the packet count is the number of distinct 5 ms periods of the events.
+  const std::string in = kData + "/ucsd_alex_walking_again.aedat";
+  const auto ref = dvs_driver::readAedat(in);
+  size_t expected = 0;
+  int64_t last = -1;
+  for (const auto& e : ref.stream.events)
+    if (e.t_ns / 5000000 != last)
+    {
+      ++expected;
+      last = e.t_ns / 5000000;
+    }
+  const std::string bag = tmp("p5.bag");
+  const ToolRun s = run("--input " + in + " --output " + bag + " --packet-period 0.005");
+  ASSERT_EQ(0, s.status) << s.out;
+  EXPECT_NE(std::string::npos, s.out.find("\"packets\":" + std::to_string(expected) + ",")) << s.out;
+  const ToolRun ms = run("--input " + in + " --output " + bag + " --packet-period-ms 5");
+  ASSERT_EQ(0, ms.status) << ms.out;
+  EXPECT_NE(std::string::npos, ms.out.find("--packet-period-ms is deprecated: use --packet-period 0.005")) << ms.out;
+  EXPECT_NE(std::string::npos, ms.out.find("\"packets\":" + std::to_string(expected) + ",")) << ms.out;
+  std::remove(bag.c_str());
+}
+
 TEST(ConvertTool, NegativeTimesNeedZeroTimeForBags)
 {
   const std::string bag = tmp("neg.bag");

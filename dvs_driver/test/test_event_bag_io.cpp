@@ -125,6 +125,32 @@ TEST(EventBagIo, BagRoundTripExactNanosecondsAndOneMsPackets)
   std::remove(path.c_str());
 }
 
+TEST(EventBagIo, BagSourceStreamsTheSameEventsInAnyBlockSize)
+{
+  dvs_driver::EventStream s;
+  s.events = makeEvents(20000, 1000000000LL * 3);
+  s.width = 240;
+  s.height = 180;
+  const std::string path = tempPath("stream.bag");
+  dvs_driver::writeEventsBag(path, "/dvs/events", s);
+  auto source = dvs_driver::openEventSource(path);
+  EXPECT_EQ(240u, source->info().width);
+  EXPECT_EQ(180u, source->info().height);
+  for (size_t block : {1u, 333u, 100000u})
+  {
+    SCOPED_TRACE(block);
+    source->rewind();
+    dvs_driver::EventVector got;
+    size_t n;
+    while ((n = source->read(got, block)) > 0)
+      ASSERT_LE(n, block);  // never more than asked: memory bounded by the block
+    ASSERT_EQ(s.events.size(), got.size());
+    for (size_t i = 0; i < got.size(); ++i)
+      ASSERT_EQ(s.events[i], got[i]) << i;
+  }
+  std::remove(path.c_str());
+}
+
 TEST(EventBagIo, CustomPeriodAndTopic)
 {
   dvs_driver::EventVector ev = makeEvents(300, 0);  // 0 .. ~100 ms

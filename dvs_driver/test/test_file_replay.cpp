@@ -27,9 +27,9 @@ TEST(FileReplay, PublishesEveryEventOfTheRecording)
 {
   ros::NodeHandle pnh("~");
   std::string file;
-  double period_ms = 1.0;
+  double period = 0.001;
   ASSERT_TRUE(pnh.getParam("file", file));
-  pnh.getParam("packet_period_ms", period_ms);
+  pnh.getParam("packet_period", period);
   const auto rec = dvs_driver::readAedat(file);
   const size_t expected = rec.stream.events.size();
   ASSERT_EQ(19182u, expected);
@@ -61,7 +61,7 @@ TEST(FileReplay, PublishesEveryEventOfTheRecording)
   // replay started, which is after this test subscribed.
   EXPECT_GE(dvs_driver::rosTimeToNs(g_packets.front()->events.front().ts), subscribed_ns);
 
-  const int64_t period_ns = static_cast<int64_t>(period_ms * 1e6 + 0.5);
+  const int64_t period_ns = static_cast<int64_t>(period * 1e9 + 0.5);
   size_t k = 0;
   int64_t stamp0 = 0;
   for (const auto& p : g_packets)

@@ -1,5 +1,5 @@
 // ROS-free parts of the driver: stamp mapping, packet policy, file replay input.
-#include <dvs_driver/file_input.h>
+#include <dvs_driver/file_replay.h>
 #include <dvs_driver/packet_builder.h>
 #include <gtest/gtest.h>
 
@@ -76,16 +76,21 @@ dvs_driver::EventStream makeStream(size_t n, int64_t dt_ns)
                              static_cast<uint16_t>(i / 128 % 128), i % 2 == 0});
   return s;
 }
+
+std::unique_ptr<dvs_driver::EventSource> memory(const dvs_driver::EventStream& s)
+{
+  return std::unique_ptr<dvs_driver::EventSource>(new dvs_driver::MemoryEventSource(s, "memory"));
+}
 }  // namespace
 
-TEST(FileInput, FullSpeedDeliversEverythingInBoundedChunks)
+TEST(FileReplay, FullSpeedDeliversEverythingInBoundedChunks)
 {
   const auto s = makeStream(50000, 1000);  // 50 ms of events, 1 us apart
-  dvs_driver::FileInputOptions o;
+  dvs_driver::FileReplayOptions o;
   o.speed = 0;
   o.chunk_period_ns = 100000;
   o.chunk_max_events = 64;
-  dvs_driver::FileInput in(s, "memory", o);
+  dvs_driver::FileReplay in(memory(s), o);
   Collect c;
   in.start(c);
   ASSERT_TRUE(c.waitEnd());
@@ -97,13 +102,13 @@ TEST(FileInput, FullSpeedDeliversEverythingInBoundedChunks)
   EXPECT_LT(c.max_chunk_span, o.chunk_period_ns);
 }
 
-TEST(FileInput, LoopKeepsTimeIncreasingAndStopJoins)
+TEST(FileReplay, LoopKeepsTimeIncreasingAndStopJoins)
 {
   const auto s = makeStream(1000, 1000);
-  dvs_driver::FileInputOptions o;
+  dvs_driver::FileReplayOptions o;
   o.speed = 0;
   o.loop = true;
-  dvs_driver::FileInput in(s, "memory", o);
+  dvs_driver::FileReplay in(memory(s), o);
   Collect c;
   in.start(c);
   while (in.delivered() < 5000)
@@ -118,12 +123,12 @@ TEST(FileInput, LoopKeepsTimeIncreasingAndStopJoins)
   EXPECT_FALSE(c.ended);
 }
 
-TEST(FileInput, RejectsBadOptionsAndHandlesEmptyStreams)
+TEST(FileReplay, RejectsBadOptionsAndHandlesEmptyStreams)
 {
-  dvs_driver::FileInputOptions o;
+  dvs_driver::FileReplayOptions o;
   o.speed = -1;
-  EXPECT_THROW(dvs_driver::FileInput(makeStream(1, 1), "x", o), std::invalid_argument);
-  dvs_driver::FileInput empty(dvs_driver::EventStream(), "empty", dvs_driver::FileInputOptions());
+  EXPECT_THROW(dvs_driver::FileReplay(memory(makeStream(1, 1)), o), std::invalid_argument);
+  dvs_driver::FileReplay empty(memory(dvs_driver::EventStream()), dvs_driver::FileReplayOptions());
   Collect c;
   empty.start(c);
   EXPECT_TRUE(c.waitEnd());

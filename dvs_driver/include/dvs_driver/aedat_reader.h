@@ -3,7 +3,12 @@
 // Format (../shared/reference/formats.md): '#' header lines ending in CRLF, the first
 // `#!AER-DAT2.0`; then 8-byte big-endian records {int32 address, int32 timestamp in us}.
 #include <dvs_driver/event.h>
+#include <dvs_driver/event_source.h>
 #include <dvs_driver/event_text_io.h>
+
+#include <fstream>
+#include <memory>
+#include <vector>
 
 #include <cstdint>
 #include <string>
@@ -56,6 +61,31 @@ struct AedatRecording
 AedatRecording readAedat(const std::string& path);
 /// Same, from bytes in memory (`name` is used in messages).
 AedatRecording readAedat(const uint8_t* data, size_t size, const std::string& name);
+
+struct AedatRecordDecoder;
+
+/// An AEDAT 2.0 file read a block of records at a time (same decoding as readAedat; memory bounded
+/// by the block). The constructor reads the header (and, only when the header does not name the
+/// sensor, checks every address in pieces); throws AedatError like readAedat.
+class AedatFileSource : public EventSource
+{
+public:
+  explicit AedatFileSource(const std::string& path);
+  ~AedatFileSource() override;
+  const EventSourceInfo& info() const override { return info_; }
+  size_t read(EventVector& out, size_t max_events) override;
+  void rewind() override;
+  /// Header facts and the counts of the records read so far (since the last rewind).
+  const AedatInfo& aedatInfo() const { return aedat_; }
+
+private:
+  std::ifstream in_;
+  EventSourceInfo info_;
+  AedatInfo aedat_;
+  std::unique_ptr<AedatRecordDecoder> decoder_;
+  std::vector<uint8_t> bytes_;
+  uint64_t next_record_ = 0;
+};
 
 /// Byte offset where the records start (after the last header line). A header line starts with
 /// '#', holds only text and ends in '\n'; `#End Of ASCII Header` ends the header explicitly, so a

@@ -5,11 +5,14 @@
 // nsec = t_ns % 1e9} exactly, both ways. ros::Time cannot hold negative times or times past
 // 2106: converting such an event throws EventBagError naming the value.
 #include <dvs_driver/event.h>
+#include <dvs_driver/event_source.h>
 #include <dvs_driver/event_text_io.h>
 #include <dvs_msgs/EventArray.h>
 #include <ros/time.h>
 
+#include <memory>
 #include <string>
+
 
 namespace rosbag
 {
@@ -58,6 +61,27 @@ EventStream fromMessage(const dvs_msgs::EventArray& msg);
 /// missing/unreadable file, a missing topic (listing the topics present with their types), or a
 /// topic of another type.
 EventStream readEventsBag(const std::string& path, const std::string& topic = kDefaultEventTopic);
+
+/// The events of one topic of a bag, a message at a time (bounded memory; same checks as
+/// readEventsBag, which reads through it). The sensor size is that of the first message stating
+/// one. Events are delivered in bag order.
+class BagEventSource : public EventSource
+{
+public:
+  BagEventSource(const std::string& path, const std::string& topic = kDefaultEventTopic);
+  ~BagEventSource() override;
+  const EventSourceInfo& info() const override { return info_; }
+  size_t read(EventVector& out, size_t max_events) override;
+  void rewind() override;
+
+private:
+  struct Reader;  // the bag, its view and where the reading stands (rosbag headers stay out)
+  std::unique_ptr<Reader> reader_;
+  EventSourceInfo info_;
+};
+
+/// Any recorded event file for streaming: a `.bag` (topic `topic`) or what openEventFile opens.
+std::unique_ptr<EventSource> openEventSource(const std::string& path, const std::string& topic = kDefaultEventTopic);
 
 /// Write events (sorted by time) to an open bag on `topic`, split into fixed-period packets:
 /// packet k holds the events with floor(t_ns / packet_period_ns) == k (periods aligned to

@@ -23,6 +23,9 @@ public:
   virtual void onWarning(const std::string& /*message*/) {}
   /// A recording has been delivered completely.
   virtual void onEndOfInput() {}
+  /// A recording turned out malformed part way through (the message names the file and where);
+  /// the events before the fault were delivered, nothing follows.
+  virtual void onInputError(const std::string& message) { onWarning(message); }
 };
 
 class EventInput

@@ -2,6 +2,9 @@
 // Event Camera Dataset `events.txt`: one event a line, `t x y p`, t in seconds (decimal,
 // nanosecond resolution), x y integer pixels (top-left origin), p 1 = ON, 0 = OFF.
 #include <dvs_driver/event.h>
+#include <dvs_driver/event_source.h>
+
+#include <fstream>
 
 #include <iosfwd>
 #include <stdexcept>
@@ -21,6 +24,25 @@ public:
 /// a polarity other than 0/1, or a time that goes backwards.
 EventVector readEventsText(const std::string& path);
 EventVector readEventsText(std::istream& in, const std::string& name);
+
+/// An events.txt read a block of lines at a time (same checks as readEventsText). The sensor size
+/// is not stated in the file (info() width/height 0; see probeSource).
+class TextFileSource : public EventSource
+{
+public:
+  /// Throws EventFileError naming the file when it cannot be opened.
+  explicit TextFileSource(const std::string& path);
+  const EventSourceInfo& info() const override { return info_; }
+  size_t read(EventVector& out, size_t max_events) override;
+  void rewind() override;
+
+private:
+  std::ifstream in_;
+  EventSourceInfo info_;
+  std::string line_;
+  size_t line_no_ = 0;
+  int64_t last_t_ = INT64_MIN;
+};
 
 /// Format one event as an events.txt line (no newline), time with 9 decimals.
 std::string formatEventLine(const Event& e);

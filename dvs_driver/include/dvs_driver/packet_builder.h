@@ -1,5 +1,8 @@
 #pragma once
-// Time stamping and packet policy of the driver (ROS-free parts, header-only).
+// Time stamping, packet policy and packet building of the driver (ROS-free, header-only).
+#include <dvs_driver/event.h>
+
+#include <chrono>
 #include <cstddef>
 #include <cstdint>
 
@@ -43,5 +46,76 @@ struct PacketPolicy
   {
     return count >= max_events || last_ns - first_ns >= period_ns;
   }
+};
+
+/// Cuts a stream of events into packets: maps each event's time to its stamp (StampMapper),
+/// opens a packet at the first event, closes it when the PacketPolicy says it is full, or when it
+/// has waited one period of wall time (flushIfWaited), or on demand (flush). The packet itself
+/// belongs to a Sink (the ROS side's message), so nothing here allocates:
+///   void begin();                             // a new packet starts
+///   void append(const Event& e, int64_t stamp_ns);
+///   void finish();                            // the packet is complete: publish it
+///   void discard();                           // drop the open packet (nobody listens)
+/// Not thread-safe: the caller serialises calls.
+class PacketBuilder
+{
+public:
+  using Clock = std::chrono::steady_clock;
+  PacketPolicy policy;
+  StampMapper stamps;
+
+  template <class Sink>
+  void add(const Event* begin, const Event* end, Sink& sink)
+  {
+    for (const Event* e = begin; e != end; ++e)
+    {
+      const int64_t s = stamps.map(e->t_ns);
+      if (count_ == 0)
+      {
+        sink.begin();
+        first_ns_ = s;
+        started_ = Clock::now();
+      }
+      sink.append(*e, s);
+      ++count_;
+      if (policy.full(first_ns_, s, count_))
+      {
+        sink.finish();
+        count_ = 0;
+      }
+    }
+  }
+  /// Nobody listens: times keep moving (stamps mapped, clamps counted), nothing is built, and an
+  /// open packet is dropped.
+  template <class Sink>
+  void skip(const Event* begin, const Event* end, Sink& sink)
+  {
+    for (const Event* e = begin; e != end; ++e)
+      stamps.map(e->t_ns);
+    if (count_ > 0)
+      sink.discard();
+    count_ = 0;
+  }
+  /// Close the open packet, if any.
+  template <class Sink>
+  void flush(Sink& sink)
+  {
+    if (count_ > 0)
+      sink.finish();
+    count_ = 0;
+  }
+  /// Close the open packet if it got its first event at least one period of wall time ago.
+  template <class Sink>
+  void flushIfWaited(Sink& sink, Clock::time_point now = Clock::now())
+  {
+    if (count_ > 0 && now - started_ >= std::chrono::nanoseconds(policy.period_ns))
+      flush(sink);
+  }
+  size_t openCount() const { return count_; }
+
+private:
+  size_t count_ = 0;
+  int64_t first_ns_ = 0;
+  Clock::time_point started_;
 };
 }  // namespace dvs_driver

@@ -1,18 +1,24 @@
-// dvs_driver_node: loads dvs_driver/DriverNodelet into this process (same code as the nodelet).
-#include <nodelet/loader.h>
+// dvs_driver_node: the driver in its own process; constructs DriverRos as the nodelet does (no
+// nodelet manager).
+#include "driver_ros.h"
+
 #include <ros/ros.h>
 
 int main(int argc, char** argv)
 {
   ros::init(argc, argv, "dvs_driver");
-  nodelet::Loader loader;
-  const nodelet::M_string remappings(ros::names::getRemappings());
-  const nodelet::V_string args(argv + 1, argv + argc);
-  if (!loader.load(ros::this_node::getName(), "dvs_driver/DriverNodelet", remappings, args))
+  ros::NodeHandle nh, pnh("~");
+  std::unique_ptr<dvs_driver::DriverRos> driver;
+  try
   {
-    ROS_FATAL("dvs_driver_node: could not start the driver (see the error above)");
+    driver.reset(new dvs_driver::DriverRos(nh, pnh));
+  }
+  catch (const std::exception& e)
+  {
+    ROS_FATAL_STREAM(e.what());
     return 1;
   }
   ros::spin();
+  driver.reset();
   return 0;
 }

@@ -1,5 +1,5 @@
 // rosrun dvs_driver convert --input IN --output OUT [--zero-time] [--width W --height H]
-//                           [--topic T] [--packet-period-ms P]
+//                           [--topic T] [--packet-period S]
 // IN: .aedat (2.0), events.txt (or a .bag with dvs_msgs/EventArray); OUT: events.txt or .bag
 // (topic /dvs/events, 1 ms packets). Prints a one-line JSON summary on stdout:
 // {"events":N,"span_s":S,"width":W,"height":H,"sensor":"DVS128","skipped_words":K,...}
@@ -21,7 +21,8 @@ void usage(std::ostream& os)
         "  OUT  events.txt (any name not ending in .bag) or .bag (dvs_msgs/EventArray packets)\n"
         "options:\n"
         "  --topic T               bag topic (default /dvs/events)\n"
-        "  --packet-period-ms P    bag packet period in ms (default 1)\n"
+        "  --packet-period S       bag packet period in seconds (default 0.001)\n"
+        "  --packet-period-ms P    deprecated: the same in milliseconds\n"
         "  --width W --height H    sensor size (default: from the file, else the smallest known\n"
         "                          sensor holding every event)\n"
         "  --zero-time             shift times so the first event is at t = 0 (needed to write\n"
@@ -54,7 +55,7 @@ bool parsePositive(const char* s, double& v)
 int main(int argc, char** argv)
 {
   std::string input, output, topic = dvs_driver::kDefaultEventTopic;
-  double period_ms = 1.0, width = 0, height = 0;
+  double period_s = 0.001, width = 0, height = 0;
   bool zero_time = false;
   for (int i = 1; i < argc; ++i)
   {
@@ -75,13 +76,24 @@ int main(int argc, char** argv)
       topic = value("--topic");
     else if (a == "--zero-time")
       zero_time = true;
+    else if (a == "--packet-period")
+    {
+      if (!parsePositive(value("--packet-period"), period_s))
+      {
+        std::cerr << "convert: --packet-period must be a positive number of seconds\n";
+        return 2;
+      }
+    }
     else if (a == "--packet-period-ms")
     {
-      if (!parsePositive(value("--packet-period-ms"), period_ms))
+      double ms = 0;
+      if (!parsePositive(value("--packet-period-ms"), ms))
       {
         std::cerr << "convert: --packet-period-ms must be a positive number\n";
         return 2;
       }
+      std::cerr << "convert: --packet-period-ms is deprecated: use --packet-period " << ms * 1e-3 << " (seconds)\n";
+      period_s = ms * 1e-3;
     }
     else if (a == "--width" || a == "--height")
     {
@@ -156,7 +168,7 @@ int main(int argc, char** argv)
         throw dvs_driver::EventFileError(input + ": time stamps are negative (first " +
                                          std::to_string(s.events.front().t_ns) +
                                          " ns) and a bag cannot hold them: add --zero-time");
-      packets = dvs_driver::writeEventsBag(output, topic, s, static_cast<int64_t>(period_ms * 1e6 + 0.5));
+      packets = dvs_driver::writeEventsBag(output, topic, s, static_cast<int64_t>(period_s * 1e9 + 0.5));
     }
     else
       dvs_driver::writeEventsText(output, s.events);

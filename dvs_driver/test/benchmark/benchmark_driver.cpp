@@ -177,7 +177,7 @@ int latencyBenchmark(int argc, char** argv, double rate, double seconds, double 
     return 2;
   }
   const std::string ns = ros::this_node::getName();
-  ros::param::set(ns + "_driver/packet_period_ms", period_ms);
+  ros::param::set(ns + "_driver/packet_period", period_ms * 1e-3);
   ros::param::set(ns + "_driver/transfer_size", transfer_size);
   ros::param::set(ns + "_driver/serial_number", std::string("BENCH001"));
   ros::AsyncSpinner spinner(2);

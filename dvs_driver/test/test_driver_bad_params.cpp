@@ -1,0 +1,124 @@
+// rostest: a bad parameter stops the driver with an error naming it, from the node (printed,
+// exit status 1) and from the nodelet (logged, loading fails); an unknown name is warned about.
+#include <gtest/gtest.h>
+#include <nodelet/loader.h>
+#include <ros/ros.h>
+#include <rosgraph_msgs/Log.h>
+
+#include <array>
+#include <condition_variable>
+#include <cstdio>
+#include <mutex>
+#include <string>
+#include <sys/wait.h>
+
+namespace
+{
+struct NodeRun
+{
+  int status = -1;
+  std::string output;
+};
+
+// Runs dvs_driver_node (the executable itself, no nodelet manager) with `args`, output captured.
+NodeRun runNode(const std::string& args)
+{
+  NodeRun r;
+  const std::string cmd = std::string(DRIVER_NODE) + " " + args + " 2>&1";
+  FILE* p = ::popen(cmd.c_str(), "r");
+  if (!p)
+    return r;
+  std::array<char, 4096> buf;
+  size_t n;
+  while ((n = std::fread(buf.data(), 1, buf.size(), p)) > 0)
+    r.output.append(buf.data(), n);
+  const int st = ::pclose(p);
+  r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+  return r;
+}
+
+std::mutex g_mutex;
+std::condition_variable g_cv;
+std::vector<std::string> g_log;
+
+void rosoutCallback(const rosgraph_msgs::Log::ConstPtr& m)
+{
+  std::lock_guard<std::mutex> lock(g_mutex);
+  g_log.push_back(m->msg);
+  g_cv.notify_all();
+}
+
+bool waitForLog(const std::string& text)
+{
+  std::unique_lock<std::mutex> lock(g_mutex);
+  return g_cv.wait_for(lock, std::chrono::seconds(20), [&] {
+    for (const auto& s : g_log)
+      if (s.find(text) != std::string::npos)
+        return true;
+    return false;
+  });
+}
+
+bool loadNodelet(nodelet::Loader& loader, const std::string& name)
+{
+  try
+  {
+    return loader.load(name, "dvs_driver/DriverNodelet", nodelet::M_string(), nodelet::V_string());
+  }
+  catch (const std::exception&)
+  {
+    return false;
+  }
+}
+}  // namespace
+
+TEST(DriverBadParams, NodePrintsTheOutOfRangeParameterAndExits)
+{
+  const NodeRun r = runNode("__name:=bad_node_period _packet_period:=5.0");
+  EXPECT_EQ(1, r.status) << r.output;
+  EXPECT_NE(std::string::npos, r.output.find("packet_period must be in [1e-05, 1] s (got 5)")) << r.output;
+}
+
+TEST(DriverBadParams, NodePrintsAnUnreadableFile)
+{
+  const NodeRun r = runNode("__name:=bad_node_file _file:=/nonexistent/rec.aedat");
+  EXPECT_EQ(1, r.status) << r.output;
+  EXPECT_NE(std::string::npos, r.output.find("parameter ~file: /nonexistent/rec.aedat: cannot open")) << r.output;
+}
+
+TEST(DriverBadParams, NodeletLogsTheOutOfRangeParameterAndFailsToLoad)
+{
+  ros::NodeHandle nh;
+  ros::Subscriber sub = nh.subscribe("/rosout", 1000, rosoutCallback);
+  ros::param::set("/bad_nodelet/transfers", 65);
+  nodelet::Loader loader(false);
+  EXPECT_FALSE(loadNodelet(loader, "/bad_nodelet"));
+  EXPECT_TRUE(waitForLog("transfers must be in [1, 64] (got 65)"));
+}
+
+TEST(DriverBadParams, UnknownNameIsWarnedAboutAndDeprecatedAliasRead)
+{
+  ros::NodeHandle nh;
+  ros::Subscriber sub = nh.subscribe("/rosout", 1000, rosoutCallback);
+  ros::param::set("/typo_nodelet/file", std::string(DVS_REAL_DATA_DIR "/ucsd_alex_walking_again.aedat"));
+  ros::param::set("/typo_nodelet/wait_for_subscriber", true);
+  ros::param::set("/typo_nodelet/replay_sped", 2.0);
+  ros::param::set("/typo_nodelet/packet_period_ms", 5.0);
+  nodelet::Loader loader(false);
+  ASSERT_TRUE(loadNodelet(loader, "/typo_nodelet"));
+  EXPECT_TRUE(waitForLog("unknown parameter /typo_nodelet/replay_sped ignored"));
+  EXPECT_TRUE(waitForLog("packet_period_ms is deprecated: set ~packet_period: 0.005 (seconds) instead"));
+  double period = 0;
+  EXPECT_TRUE(ros::param::get("/typo_nodelet/packet_period", period));  // what dynamic_reconfigure serves
+  EXPECT_DOUBLE_EQ(0.005, period);
+  loader.unload("/typo_nodelet");
+}
+
+int main(int argc, char** argv)
+{
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "test_driver_bad_params");
+  ros::AsyncSpinner spinner(2);
+  spinner.start();
+  return RUN_ALL_TESTS();
+}
