@@ -14,10 +14,10 @@ seconds="${1:-60}"
 case "$seconds" in ''|*[!0-9]*) echo "fuzz: SECONDS must be a whole number (got '$seconds')" >&2; exit 2 ;; esac
 command -v clang++ >/dev/null || { echo "fuzz: clang++ missing (scripts/setup.sh installs it)" >&2; exit 2; }
 
-build="$root/build_fuzz"
+build="$root/build_fuzz"; mkdir -p "$build"
 CC=clang CXX=clang++ cmake -S "$root/fuzz" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDEVEL_DIR="$root/devel" \
-  > "$build.cmake.log" 2>&1 || { cat "$build.cmake.log"; echo "fuzz: cmake failed" >&2; exit 2; }
-make -C "$build" -j2 > "$build.make.log" 2>&1 || { tail -n 30 "$build.make.log"; echo "fuzz: build failed" >&2; exit 2; }
+  > "$build/cmake.log" 2>&1 || { cat "$build/cmake.log"; echo "fuzz: cmake failed" >&2; exit 2; }
+make -C "$build" -j2 > "$build/make.log" 2>&1 || { tail -n 30 "$build/make.log"; echo "fuzz: build failed" >&2; exit 2; }
 
 data="$root/../shared/data"
 seed() {  # target, files...

@@ -74,6 +74,28 @@ void appendFromMessage(const dvs_msgs::EventArray& msg, EventVector& out)
   }
 }
 
+std::string checkSerializedEventArray(const uint8_t* data, size_t size)
+{
+  // Layout: uint32 seq, uint32 sec, uint32 nsec, uint32 len + frame_id, uint32 height,
+  // uint32 width, uint32 count, then count x 13 bytes (uint16 x, uint16 y, time ts, uint8 pol).
+  auto u32 = [&](size_t at) {
+    return static_cast<uint32_t>(data[at]) | static_cast<uint32_t>(data[at + 1]) << 8 |
+           static_cast<uint32_t>(data[at + 2]) << 16 | static_cast<uint32_t>(data[at + 3]) << 24;
+  };
+  if (size < 16)
+    return "message of " + std::to_string(size) + " bytes is shorter than an EventArray header";
+  const uint64_t frame_len = u32(12);
+  const uint64_t count_at = 16 + frame_len + 8;
+  if (count_at + 4 > size)
+    return "frame_id length " + std::to_string(frame_len) + " runs past the message's " + std::to_string(size) +
+           " bytes";
+  const uint64_t count = u32(count_at);
+  if (count * 13 > size - count_at - 4)
+    return "event count " + std::to_string(count) + " needs " + std::to_string(count * 13) + " bytes, the message has " +
+           std::to_string(size - count_at - 4);
+  return "";
+}
+
 EventStream fromMessage(const dvs_msgs::EventArray& msg)
 {
   EventStream s;
@@ -90,7 +112,26 @@ struct BagEventSource::Reader
   rosbag::View::iterator it;
   dvs_msgs::EventArrayConstPtr pending;
   size_t pending_next = 0;
+  std::vector<uint8_t> raw;  ///< the serialized message, checked before deserializing
 };
+
+namespace
+{
+/// The message, deserialized once its event count is known to fit its bytes (else EventBagError
+/// naming the file and the message time).
+dvs_msgs::EventArrayConstPtr instantiateChecked(const rosbag::MessageInstance& m, std::vector<uint8_t>& raw,
+                                                const std::string& name)
+{
+  raw.resize(m.size());
+  ros::serialization::OStream out(raw.data(), static_cast<uint32_t>(raw.size()));
+  m.write(out);
+  const std::string why = checkSerializedEventArray(raw.data(), raw.size());
+  if (!why.empty())
+    throw EventBagError(name + ": corrupt EventArray message at bag time " + std::to_string(m.getTime().toSec()) +
+                        " s: " + why);
+  return m.instantiate<dvs_msgs::EventArray>();
+}
+}  // namespace
 
 BagEventSource::BagEventSource(const std::string& path, const std::string& topic) : reader_(new Reader)
 {
@@ -138,7 +179,7 @@ BagEventSource::BagEventSource(const std::string& path, const std::string& topic
     // The sensor size: that of the first message that states one (usually the first).
     for (const rosbag::MessageInstance& m : *reader_->view)
     {
-      dvs_msgs::EventArrayConstPtr msg = m.instantiate<dvs_msgs::EventArray>();
+      dvs_msgs::EventArrayConstPtr msg = instantiateChecked(m, reader_->raw, path);
       if (msg && (msg->width != 0 || msg->height != 0))
       {
         info_.width = msg->width;
@@ -175,7 +216,7 @@ size_t BagEventSource::read(EventVector& out, size_t max_events)
       {
         if (r.it == r.view->end())
           break;
-        r.pending = r.it->instantiate<dvs_msgs::EventArray>();
+        r.pending = instantiateChecked(*r.it, r.raw, info_.name);
         ++r.it;
         r.pending_next = 0;
         if (!r.pending)

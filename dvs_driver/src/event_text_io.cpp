@@ -67,9 +67,9 @@ bool parseSecondsToNs(const char* b, const char* e, int64_t& ns)
   int digits = 0;
   for (; b < e && *b >= '0' && *b <= '9'; ++b, ++digits)
   {
-    if (whole > 9000000000LL)  // > ~285 years: not a time stamp
-      return false;
     whole = whole * 10 + (*b - '0');
+    if (whole > 9000000000LL)  // > ~285 years: not a time stamp (and ns would overflow int64)
+      return false;
   }
   int64_t frac = 0;
   int frac_digits = 0;

@@ -206,3 +206,22 @@ TEST(EventBagIo, ClearErrors)
   bag.close();
   std::remove(tempPath("neg.bag").c_str());
 }
+
+TEST(EventBagIo, ImpossibleEventCountsAreRefusedBeforeAllocating)
+{
+  // Found by fuzzing: a corrupt count made the deserializer allocate ~13 GB.
+  dvs_driver::EventVector events(3);
+  for (size_t i = 0; i < events.size(); ++i)
+    events[i] = dvs_driver::Event{static_cast<int64_t>(1000 + i), static_cast<uint16_t>(i), 7, i % 2 == 0};
+  const dvs_msgs::EventArrayPtr msg = dvs_driver::toMessage(events.data(), events.data() + events.size(), 128, 128, "dvs");
+  std::vector<uint8_t> raw(ros::serialization::serializationLength(*msg));
+  ros::serialization::OStream out(raw.data(), static_cast<uint32_t>(raw.size()));
+  ros::serialization::serialize(out, *msg);
+  EXPECT_EQ(dvs_driver::checkSerializedEventArray(raw.data(), raw.size()), "");
+  // The count sits after seq, stamp, frame_id ("dvs"), height and width.
+  const size_t count_at = 16 + 3 + 8;
+  ASSERT_EQ(raw[count_at], 3);
+  raw[count_at + 3] = 0x40;  // ~1e9 events
+  EXPECT_NE(dvs_driver::checkSerializedEventArray(raw.data(), raw.size()).find("event count"), std::string::npos);
+  EXPECT_NE(dvs_driver::checkSerializedEventArray(raw.data(), 10).find("shorter than"), std::string::npos);
+}

@@ -20,6 +20,12 @@ TEST(EventTextIo, ParsesSecondsExactlyToNanoseconds)
   EXPECT_EQ(-2000000001LL, ns);
   const std::string bad = "1.2.3";
   EXPECT_FALSE(dvs_driver::parseSecondsToNs(bad.data(), bad.data() + bad.size(), ns));
+  // Found by fuzzing: 80020000100 s overflowed int64 nanoseconds; the largest accepted is 9e9 s.
+  const std::string huge = "80020000100";
+  EXPECT_FALSE(dvs_driver::parseSecondsToNs(huge.data(), huge.data() + huge.size(), ns));
+  const std::string largest = "9000000000.999999999";
+  ASSERT_TRUE(dvs_driver::parseSecondsToNs(largest.data(), largest.data() + largest.size(), ns));
+  EXPECT_EQ(9000000000999999999LL, ns);
 }
 
 TEST(EventTextIo, RoundTripKeepsEveryField)

@@ -7,6 +7,9 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
 {
+  // What the bag reader does: a count that does not fit the bytes is refused before allocating.
+  if (!dvs_driver::checkSerializedEventArray(data, size).empty())
+    return 0;
   dvs_msgs::EventArray msg;
   try
   {

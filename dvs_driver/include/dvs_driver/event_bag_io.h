@@ -53,6 +53,11 @@ dvs_msgs::EventArrayPtr toMessage(const EventStream& stream, const std::string& 
 
 /// Append the events of msg to out (exact ns times).
 void appendFromMessage(const dvs_msgs::EventArray& msg, EventVector& out);
+
+/// Check a serialized dvs_msgs/EventArray before deserializing it: its frame_id and event count
+/// must fit in its `size` bytes (a corrupt count would make the deserializer allocate up to
+/// 64 GB). Returns "" when plausible, else what is wrong.
+std::string checkSerializedEventArray(const uint8_t* data, size_t size);
 /// The events of msg plus its sensor size.
 EventStream fromMessage(const dvs_msgs::EventArray& msg);
 
