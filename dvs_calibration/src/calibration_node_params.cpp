@@ -1,4 +1,5 @@
 #include <dvs_calibration/calibration_node_params.h>
+#include <dvs_calibration/camera_model.h>
 
 #include <stdexcept>
 
@@ -10,8 +11,8 @@ dvs_driver::ParamTable calibrationParamTable(CalibrationNodeParams& p)
   t.add("grid", p.grid, {}, "circles, columns x rows (2..64 each), e.g. `7x7`");
   t.add("spacing", p.spacing_m, "m", 0, 10, "centre-to-centre circle distance (from `show_pattern`); only scales the poses")
       .min_exclusive = true;
-  t.add("width", p.width, "px", 0, 65535, "sensor width; 0 = from the event messages (128 if they say 0)");
-  t.add("height", p.height, "px", 0, 65535, "sensor height; 0 = from the event messages");
+  t.add("width", p.width, "px", 0, kMaxSensorSide, "sensor width; 0 = from the event messages (128 if they say 0)");
+  t.add("height", p.height, "px", 0, kMaxSensorSide, "sensor height; 0 = from the event messages");
   t.add("window", p.window_s, "s", 0.001, 10, "integration window (`window_ms`, in ms, is read with a deprecation warning)");
   t.add("detector", p.detector, {"counts", "blink"}, "`counts` (threshold + closing, thesis) or `blink` (ON/OFF alternation)");
   t.add("count_threshold", p.count_threshold, "events", 0, 1000000,

@@ -1,4 +1,5 @@
 #include <dvs_calibration/calibration_session.h>
+#include <dvs_calibration/camera_model.h>
 #include <dvs_calibration/focus_score.h>
 
 #include <algorithm>
@@ -9,8 +10,8 @@ namespace dvs_calibration
 {
 void validate(const SessionConfig& c)
 {
-  if (c.width <= 0 || c.height <= 0 || c.width > 65535 || c.height > 65535)
-    throw std::invalid_argument("width and height must be positive (got " + std::to_string(c.width) + "x" +
+  if (c.width <= 0 || c.height <= 0 || c.width > kMaxSensorSide || c.height > kMaxSensorSide)
+    throw std::invalid_argument("width and height must be positive and at most " + std::to_string(kMaxSensorSide) + " (got " + std::to_string(c.width) + "x" +
                                 std::to_string(c.height) + ")");
   if (c.window_ns < 1000000 || c.window_ns > 10000000000LL)
     throw std::invalid_argument("window must be between 1 ms and 10 s (got " + std::to_string(c.window_ns * 1e-6) + " ms)");

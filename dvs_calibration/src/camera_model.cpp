@@ -61,9 +61,13 @@ CameraModel::CameraModel() : CameraModel(dvs128().intrinsics()) {}
 
 CameraModel::CameraModel(const CameraIntrinsics& k) : k_(k)
 {
-  if (k.width <= 0 || k.height <= 0 || k.width > 65535 || k.height > 65535)
-    throw CameraModelError("camera size must be positive and below 65536 (got " + std::to_string(k.width) + "x" +
-                           std::to_string(k.height) + ")");
+  // The per-pixel undistortion table takes 8 bytes a pixel: bound it before allocating.
+  if (k.width <= 0 || k.height <= 0 || k.width > kMaxSensorSide || k.height > kMaxSensorSide)
+    throw CameraModelError("camera size must be positive and at most " + std::to_string(kMaxSensorSide) + "x" +
+                           std::to_string(kMaxSensorSide) + " (got " + std::to_string(k.width) + "x" +
+                           std::to_string(k.height) + "; its undistortion table would take " +
+                           std::to_string(std::max<int64_t>(0, int64_t(k.width) * std::max(k.height, 0)) * 8 / 1000000) +
+                           " MB)");
   for (double v : {k.fx, k.fy, k.cx, k.cy, k.k1, k.k2, k.p1, k.p2, k.k3})
     if (!finite(v))
       throw CameraModelError("camera intrinsics and distortion must be finite numbers");

@@ -1,3 +1,4 @@
+#include <dvs_calibration/camera_model.h>
 #include <dvs_calibration/event_window.h>
 
 #include <stdexcept>
@@ -7,8 +8,8 @@ namespace dvs_calibration
 {
 EventWindow::EventWindow(int width, int height) : width_(width), height_(height)
 {
-  if (width <= 0 || height <= 0 || width > 65535 || height > 65535)
-    throw std::invalid_argument("event window size must be positive and below 65536 (got " + std::to_string(width) +
+  if (width <= 0 || height <= 0 || width > kMaxSensorSide || height > kMaxSensorSide)
+    throw std::invalid_argument("event window size must be positive and at most " + std::to_string(kMaxSensorSide) + " (got " + std::to_string(width) +
                                 "x" + std::to_string(height) + ")");
   on_ = cv::Mat::zeros(height, width, CV_32S);
   off_ = cv::Mat::zeros(height, width, CV_32S);

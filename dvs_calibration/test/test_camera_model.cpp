@@ -177,6 +177,7 @@ TEST(CameraModelValidation, AbsurdIntrinsicsAreRefusedWithTheReason)
     }
   };
   expectError(make([](auto& k) { k.cx = 1e9; }), "principal point");
+  expectError(make([](auto& k) { k.width = k.height = 60000; }), "its undistortion table would take 28800 MB");
   expectError(make([](auto& k) { k.k1 = 1e6; }), "shrinks the sensor's field of view");
   expectError(make([](auto& k) { k.k1 = -2.0; }), "folds back");
   expectError(make([](auto& k) { k.p1 = 0.5; }), "tangential");

@@ -23,6 +23,10 @@ public:
   using std::runtime_error::runtime_error;
 };
 
+/// The largest sensor side the suite accepts (the biggest event sensors are 1280x960; per-pixel
+/// tables of a 4096x4096 sensor take 134 MB): larger sizes are refused before allocating.
+constexpr int kMaxSensorSide = 4096;
+
 struct CameraIntrinsics
 {
   int width = 0;
