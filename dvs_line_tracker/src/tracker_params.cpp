@@ -1,5 +1,7 @@
 #include <dvs_line_tracker/tracker_params.h>
 
+#include <dvs_calibration/camera_model.h>
+
 #include <yaml-cpp/yaml.h>
 
 #include <stdexcept>
@@ -99,8 +101,8 @@ dvs_driver::ParamTable nodeParamTable(TrackerNodeSettings& n)
   t.add("map_file", n.map_file, {}, "line map YAML (empty: the 0.9 m square in the plane z = 0)");
   t.add("calibration_file", n.calibration_file, {},
         "calib.txt (`fx fy cx cy k1 k2 p1 p2 k3`) or camera_info YAML (`.yaml`); empty: wait for `dvs/camera_info`");
-  t.add("width", n.width, "px", 1, 100000, "sensor width for a calib.txt (a YAML has its own)");
-  t.add("height", n.height, "px", 1, 100000, "sensor height for a calib.txt");
+  t.add("width", n.width, "px", 1, dvs_calibration::kMaxSensorSide, "sensor width for a calib.txt (a YAML has its own)");
+  t.add("height", n.height, "px", 1, dvs_calibration::kMaxSensorSide, "sensor height for a calib.txt");
   t.add("world_frame", n.world_frame, {}, "frame of the map, poses and markers");
   t.add("camera_frame", n.camera_frame, {}, "frame of the estimated camera (TF child)");
   t.add("publish_per_event_poses", n.publish_per_event_poses, "publish `~pose` per pose update (when subscribed)");

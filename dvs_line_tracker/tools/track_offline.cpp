@@ -56,14 +56,15 @@ struct Args
   }
 };
 
-/// A positive whole number for option `name`, or an error naming the option and the value.
-int parseSize(const std::string& text, const char* name)
+/// A whole number in [1, max] for option `name`, or an error naming the option and the value.
+int parseSize(const std::string& text, const char* name, long max = dvs_calibration::kMaxSensorSide)
 {
   char* end = nullptr;
   errno = 0;
   const long v = std::strtol(text.c_str(), &end, 10);
-  if (text.empty() || end != text.c_str() + text.size() || errno != 0 || v <= 0 || v > 100000)
-    throw std::runtime_error(std::string(name) + " must be a whole number in [1, 100000] (got '" + text + "')");
+  if (text.empty() || end != text.c_str() + text.size() || errno != 0 || v <= 0 || v > max)
+    throw std::runtime_error(std::string(name) + " must be a whole number in [1, " + std::to_string(max) + "] (got '" +
+                             text + "')");
   return static_cast<int>(v);
 }
 }  // namespace
@@ -161,7 +162,7 @@ int main(int argc, char** argv)
     if (args.has("solver") && !parseSolverType(args.get("solver"), params.estimator.solver))
       throw std::runtime_error("--solver must be 'incremental' or 'full'");
     if (args.has("buffer-size"))
-      params.buffer_size = parseSize(args.get("buffer-size"), "--buffer-size");
+      params.buffer_size = parseSize(args.get("buffer-size"), "--buffer-size", 1024);
 
     FILE* out = std::fopen(args.get("out").c_str(), "w");
     if (!out)
