@@ -21,8 +21,10 @@ Parameters:
 """
 import bisect
 import math
+import os
 import struct
 import sys
+import tempfile
 import threading
 import time
 import unittest
@@ -34,6 +36,24 @@ from geometry_msgs.msg import PoseStamped
 from visualization_msgs.msg import MarkerArray
 
 PKG = "dvs_launch"
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), "..", "scripts"))
+import evaluate_trajectory  # noqa: E402  (the suite's one accuracy metric, through its tool)
+
+
+def write_tum(path, rows):
+    with open(path, "w") as f:
+        for r in rows:
+            f.write("%.9f %.9f %.9f %.9f %.9f %.9f %.9f %.9f\n" % tuple(r))
+
+
+def tool_report(poses, gt_rows, until):
+    """dvs_calibration's evaluate_trajectory on the received poses and the ground truth up to
+    `until` (s): its JSON object."""
+    with tempfile.TemporaryDirectory(prefix="check_pipeline_") as d:
+        est, gt = os.path.join(d, "estimate.tum"), os.path.join(d, "groundtruth.tum")
+        write_tum(est, [r for r in poses if r[0] <= until])
+        write_tum(gt, [r for r in gt_rows if r[0] <= until])
+        return evaluate_trajectory.run_tool(gt, est)
 
 
 def quat_mul_conj_angle(q1, q2):
@@ -67,6 +87,10 @@ class GroundTruth:
                 return
             self.t.append(row[0])
             self.rows.append(row)
+
+    def rows_copy(self):
+        with self.lock:
+            return list(self.rows)
 
     def first_time(self):
         with self.lock:
@@ -194,6 +218,8 @@ class PipelineTest(unittest.TestCase):
                       "max %.2f cm / %.2f deg", self.events, len(self.gt), len(self.poses), len(pos_err),
                       self.poses[0][0] - self.gt.first_time(), 100 * med_pos, med_ang, 100 * p90_pos, p90_ang,
                       100 * pos_err[-1], ang_err[-1])
+        report = tool_report(list(self.poses), self.gt.rows_copy(), compare_until)
+        rospy.loginfo("check_pipeline: evaluate_trajectory: %s", report)
         self.assertLess(med_pos, float(rospy.get_param("~max_position_error", 0.05)),
                         "median position error %.3f m" % med_pos)
         self.assertLess(med_ang, float(rospy.get_param("~max_angle_error", 5.0)),
