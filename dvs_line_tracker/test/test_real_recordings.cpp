@@ -12,7 +12,7 @@ using namespace dvs_line_tracker;
 
 namespace
 {
-const std::string kDir = "/work/shared/data/real/";
+const std::string kDir = DVS_REAL_DATA_DIR "/";  // from the package source dir (CMakeLists.txt)
 
 dvs_driver::EventVector load(const std::string& name)
 {

@@ -20,6 +20,7 @@
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
 
+#include <atomic>
 #include <cstdio>
 #include <mutex>
 
@@ -86,8 +87,12 @@ TEST(TrackerRos, TracksASimulatedBag)
   ros::AsyncSpinner spinner(2);
   spinner.start();
 
-  // 3. Camera info (latched), then the bag's packets.
-  ros::Publisher info_pub = nh.advertise<sensor_msgs::CameraInfo>("/dvs/camera_info", 1, true);
+  // 3. Camera info (latched), then the bag's packets. The tracker unsubscribes from camera_info
+  // once it has one (tracker_ros.cpp): that disconnect says the camera info was delivered.
+  std::atomic<int> info_disconnects{0};
+  ros::Publisher info_pub = nh.advertise<sensor_msgs::CameraInfo>(
+      "/dvs/camera_info", 1, ros::SubscriberStatusCallback(),
+      [&](const ros::SingleSubscriberPublisher&) { ++info_disconnects; }, ros::VoidConstPtr(), true);
   ros::Publisher events_pub = nh.advertise<dvs_msgs::EventArray>("/dvs/events", 2000);
   sensor_msgs::CameraInfo info;
   const auto& k = config.camera.intrinsics();
@@ -104,7 +109,9 @@ TEST(TrackerRos, TracksASimulatedBag)
          ros::WallTime::now() < deadline)
     ros::WallDuration(0.05).sleep();
   ASSERT_GT(events_pub.getNumSubscribers(), 0u);
-  ros::WallDuration(1.0).sleep();  // camera_info delivered
+  while (info_disconnects.load() == 0 && ros::WallTime::now() < deadline)
+    ros::WallDuration(0.01).sleep();
+  ASSERT_GT(info_disconnects.load(), 0) << "the tracker did not take the camera_info within 30 s";
 
   rosbag::Bag bag(bag_path, rosbag::bagmode::Read);
   size_t packets = 0;
@@ -116,7 +123,20 @@ TEST(TrackerRos, TracksASimulatedBag)
   }
   bag.close();
   std::remove(bag_path.c_str());
-  ros::WallDuration(3.0).sleep();
+  // Wait until the tracker has worked through the bag: the last per-event and batched poses are
+  // the same update, near the last event, and the diagnostics report the state (30 s at most;
+  // the checks below say what is missing).
+  const ros::Time last_event(sim.events.back().t_ns * 1e-9);
+  const auto caught_up = [&] {
+    std::lock_guard<std::mutex> l(rx.m);
+    return !rx.poses.empty() && !rx.batched_stamps.empty() && !rx.diagnostics.empty() &&
+           rx.poses.back().header.stamp == rx.batched_stamps.back() &&
+           rx.batched_stamps.back() >= last_event - ros::Duration(0.05) && !rx.states.empty() &&
+           rx.diagnostics.back().message == rx.states.back();
+  };
+  const ros::WallTime done_deadline = ros::WallTime::now() + ros::WallDuration(30.0);
+  while (!caught_up() && ros::WallTime::now() < done_deadline)
+    ros::WallDuration(0.02).sleep();
 
   // 4. Checks.
   std::lock_guard<std::mutex> l(rx.m);

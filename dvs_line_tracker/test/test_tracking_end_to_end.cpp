@@ -58,9 +58,21 @@ static Tracked trackSimulated(const std::string& label, const std::string& scena
   return t;
 }
 
+// Sequences several tests use: simulated and tracked once per test binary, on first use.
+static const Tracked& flipAt2m()
+{
+  static const Tracked t = trackSimulated("flip 2 m", "flip", "trajectory: {flip: {distance: 2.0, peak_rate_deg_s: 1200}}");
+  return t;
+}
+static const Tracked& circleAt2_5m()
+{
+  static const Tracked t = trackSimulated("circle 2.5 m", "circle", "trajectory: {circle: {distance: 2.5}}\nduration: 2.0");
+  return t;
+}
+
 TEST(EndToEnd, Flip1200DegPerSecondAt2m)
 {
-  const Tracked t = trackSimulated("flip 2 m", "flip", "trajectory: {flip: {distance: 2.0, peak_rate_deg_s: 1200}}");
+  const Tracked& t = flipAt2m();
   const dvs_calibration::AccuracyReport& r = t.accuracy;
   ASSERT_FALSE(t.run.estimates.empty());
   // First pose within 0.25 s of the first events.
@@ -105,7 +117,7 @@ TEST(EndToEnd, Flip1200DegPerSecondAt1m)
 
 TEST(EndToEnd, CircleAt2_5m)
 {
-  const Tracked t = trackSimulated("circle 2.5 m", "circle", "trajectory: {circle: {distance: 2.5}}\nduration: 2.0");
+  const Tracked& t = circleAt2_5m();
   const dvs_calibration::AccuracyReport& r = t.accuracy;
   ASSERT_FALSE(t.run.estimates.empty());
   EXPECT_EQ(r.samples_tracked, r.samples);
@@ -139,9 +151,8 @@ static double meanDepthError(const dvs_calibration::Trajectory& estimates, const
 // looks smaller and the camera farther away. The learned dark-side offset removes that bias.
 TEST(EndToEnd, EdgeOffsetCorrectionRemovesTheDepthBias)
 {
-  const Simulated sim = simulate("circle", "trajectory: {circle: {distance: 2.5}}\nduration: 2.0");
-  LineTracker corrected(sim.config.camera, defaultSquareMap());
-  const double bias_corrected = meanDepthError(runTracker(corrected, sim.output.events).estimates, sim.ground_truth);
+  const Simulated& sim = circleAt2_5m().sim;  // tracked there with the default parameters: corrected
+  const double bias_corrected = meanDepthError(circleAt2_5m().run.estimates, sim.ground_truth);
   LineTrackerParams params;
   params.edge_run_model = false;
   params.edge_offset_px = 0;
@@ -158,7 +169,7 @@ TEST(EndToEnd, EdgeOffsetCorrectionRemovesTheDepthBias)
 // inside the firing pixel (edge_run_model.h) far better than the constant dark-side offset.
 TEST(EndToEnd, RunModelPlacesEventsOnTheirEdge)
 {
-  const Simulated sim = simulate("flip", "trajectory: {flip: {distance: 2.0}}");
+  const Simulated& sim = flipAt2m().sim;  // the flip at 2 m, 1200 deg/s (the defaults)
   const auto& cam = sim.config.camera;
   const auto& in = cam.intrinsics();
   const PinholeK k{in.fx, in.fy, in.cx, in.cy};

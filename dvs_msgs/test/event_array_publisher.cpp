@@ -18,9 +18,10 @@ int main(int argc, char** argv)
     return 1;
   }
   ros::Publisher pub = nh.advertise<dvs_msgs::EventArray>("events", packets);
+  // getNumSubscribers() counts connections whose handshake is done: a message published now
+  // reaches the subscriber (no settling delay needed).
   while (ros::ok() && pub.getNumSubscribers() == 0)
-    ros::Duration(0.01).sleep();
-  ros::Duration(0.2).sleep();  // let the subscriber's connection settle
+    ros::WallDuration(0.01).sleep();
 
   for (int p = 0; p < packets && ros::ok(); ++p)
   {

@@ -23,10 +23,14 @@ def main(argv):
         sys.stderr.write(__doc__)
         return 2
     out = argv[1]
-    with open(os.path.join(out, "run.json")) as f:
-        run = json.load(f)
-    with open(os.path.join(out, "accuracy.json")) as f:
-        acc = json.loads(f.read().strip().splitlines()[-1])
+    try:
+        with open(os.path.join(out, "run.json")) as f:
+            run = json.load(f)
+        with open(os.path.join(out, "accuracy.json")) as f:
+            acc = json.loads(f.read().strip().splitlines()[-1])
+    except (OSError, ValueError, IndexError) as e:
+        sys.stderr.write("demo_report.py: cannot read the demo's results in %s: %s\n" % (out, e))
+        return 1
     diag = run.get("tracker_diagnostics", {})
     summary = {
         "position_rms_cm": acc["position_rms_cm"],
@@ -55,7 +59,8 @@ def main(argv):
           % acc["gt_samples_evaluated"])
     print("  position    RMS %6.2f cm   max %6.2f cm" % (acc["position_rms_cm"], acc["position_max_cm"]))
     print("  orientation RMS %6.2f deg  max %6.2f deg" % (acc["orientation_rms_deg"], acc["orientation_max_deg"]))
-    print("  tracked (error < 10 cm and < 10 deg): %.1f %% of the samples; first estimate %.3f s after the start"
+    print("  tracked (estimate at most 50 ms old, error within 10 cm and 10 deg): %.1f %% of the samples; "
+          "first estimate %.3f s after the start"
           % (acc["tracked_percent"], acc["first_estimate_after_s"]))
     print("throughput (live, real time, both in one nodelet manager on this machine):")
     print("  the tracker received %d events in %.2f s: %.0f events/s on average, %.0f events/s peak (10 ms),"

@@ -1,45 +1,113 @@
 #!/usr/bin/env python3
-"""Compare an estimated trajectory with ground truth and plot them like the thesis's Fig. 4.15.
+"""Score an estimated trajectory against ground truth with the suite's one accuracy metric and
+plot them like the thesis's Fig. 4.15.
 
 usage: evaluate_trajectory.py --gt groundtruth.txt --est trajectory.txt [--plot out.png]
-                              [--title TEXT] [--json out.json]
+                              [--title TEXT] [--json out.json] [--max-age S]
 
 Both files: TUM lines `t tx ty tz qx qy qz qw` (T_world_camera; '#' comments allowed).
-At every ground-truth sample from the first estimate on, the estimate in force is the latest
-one at or before that time (what a controller would have had). Errors: position = norm of the
-translation difference; orientation = angle of R_est^T R_gt. A sample counts as tracked when
-its errors are under 10 cm and 10 deg. Prints one JSON line."""
+Every figure comes from dvs_calibration's `evaluate_trajectory` tool (trajectory_accuracy.h):
+at every ground-truth sample from the first estimate on, the estimate in force is the latest
+one at or before that time; a sample is tracked when that estimate is at most --max-age old
+(default the tool's, 0.05 s) and within 10 cm and 10 deg. This script only converts the units
+(cm, percent), adds the time of the first estimate after the first ground-truth sample, and
+draws the plot. Prints one JSON line; exit 1 with a one-line message on a missing or malformed
+file or when the tool is not built."""
 import argparse
 import json
 import math
+import os
+import subprocess
 import sys
 
-import numpy as np
+TOOL_ENV = "DVS_EVALUATE_TRAJECTORY"  # path of the tool, overrides the search below
 
+
+class EvaluationError(Exception):
+    pass
+
+
+def find_tool():
+    """dvs_calibration's evaluate_trajectory: $DVS_EVALUATE_TRAJECTORY, else catkin_find (the
+    devel or install space of the sourced workspace), else this source tree's devel space."""
+    path = os.environ.get(TOOL_ENV)
+    if path:
+        if not os.access(path, os.X_OK):
+            raise EvaluationError("%s=%s is not an executable" % (TOOL_ENV, path))
+        return path
+    try:
+        out = subprocess.run(["catkin_find", "--first-only", "dvs_calibration", "evaluate_trajectory"],
+                             capture_output=True, text=True, timeout=30).stdout.strip()
+        if out and os.access(out.splitlines()[0], os.X_OK):
+            return out.splitlines()[0]
+    except (OSError, subprocess.SubprocessError):
+        pass
+    here = os.path.dirname(os.path.realpath(__file__))
+    devel = os.path.join(here, "..", "..", "devel", "lib", "dvs_calibration", "evaluate_trajectory")
+    if os.access(devel, os.X_OK):
+        return os.path.realpath(devel)
+    raise EvaluationError("dvs_calibration's evaluate_trajectory tool not found (build the workspace and "
+                          "source devel/setup.bash, or set %s)" % TOOL_ENV)
+
+
+def run_tool(gt_path, est_path, max_age=None, from_s=None, to_s=None):
+    """The tool's JSON object for the two files (raises EvaluationError with its message).
+    Other scripts (launch/test/check_pipeline.py) import this to score through the tool too."""
+    for what, path in (("ground truth", gt_path), ("estimate", est_path)):
+        if not os.path.isfile(path):
+            raise EvaluationError("%s file %s does not exist" % (what, path))
+    cmd = [find_tool(), "--groundtruth", gt_path, "--estimate", est_path]
+    for option, value in (("--max-age", max_age), ("--from", from_s), ("--to", to_s)):
+        if value is not None:
+            cmd += [option, repr(float(value))]
+    res = subprocess.run(cmd, capture_output=True, text=True)
+    if res.returncode != 0:
+        lines = res.stderr.strip().splitlines()
+        raise EvaluationError(lines[0] if lines else "%s exited with %d" % (cmd[0], res.returncode))
+    try:
+        return json.loads(res.stdout.strip().splitlines()[-1])
+    except (ValueError, IndexError):
+        raise EvaluationError("%s printed no JSON object: %r" % (cmd[0], res.stdout[:200]))
+
+
+def summary_of(metric):
+    """The figures in the units the demo reports (cm, deg, percent); keys as before the tool."""
+    if metric["samples"] == 0:
+        raise EvaluationError("no ground-truth sample after the first estimate (first estimate %.6f s, "
+                              "ground truth starts %.6f s)" % (metric["first_estimate_s"],
+                                                               metric["groundtruth_start_s"]))
+    return {
+        "gt_samples_evaluated": int(metric["samples"]),
+        "gt_samples_fresh": int(metric["samples_fresh"]),
+        "gt_samples_total": int(metric["groundtruth_poses"]),
+        "first_estimate_after_s": round(metric["first_estimate_s"] - metric["groundtruth_start_s"], 6),
+        "position_rms_cm": round(100 * metric["rms_position_m"], 3),
+        "position_max_cm": round(100 * metric["max_position_m"], 3),
+        "orientation_rms_deg": round(metric["rms_orientation_deg"], 3),
+        "orientation_max_deg": round(metric["max_orientation_deg"], 3),
+        "tracked_percent": round(100.0 * metric["tracked_fraction"], 2),
+        "estimates": int(metric["estimate_poses"]),
+    }
+
+
+# ---- plotting only: reads the (already validated) files and draws what the tool scored ----
 
 def load_tum(path):
+    import numpy as np
     rows = []
     with open(path) as f:
-        for n, line in enumerate(f, 1):
+        for line in f:
             s = line.strip()
-            if not s or s.startswith("#"):
-                continue
-            parts = s.split()
-            if len(parts) != 8:
-                sys.exit("%s:%d: expected 8 fields `t tx ty tz qx qy qz qw`, got %d" % (path, n, len(parts)))
-            try:
-                rows.append([float(p) for p in parts])
-            except ValueError:
-                sys.exit("%s:%d: not a number" % (path, n))
-    if not rows:
-        sys.exit("%s: no poses" % path)
-    a = np.array(rows)
-    if np.any(np.diff(a[:, 0]) < 0):
-        sys.exit("%s: time stamps go backwards" % path)
-    return a
+            if s and not s.startswith("#"):
+                try:
+                    rows.append([float(p) for p in s.replace(",", " ").split()])
+                except ValueError:
+                    continue  # a CSV header line (the tool has accepted the file)
+    return np.array(rows)
 
 
 def quat_to_rot(q):
+    import numpy as np
     x, y, z, w = q / np.linalg.norm(q)
     return np.array([
         [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
@@ -49,31 +117,23 @@ def quat_to_rot(q):
 
 def rot_to_rpy_deg(R):
     """roll (x), pitch (y), yaw (z) of R = Rz(yaw) Ry(pitch) Rx(roll), degrees."""
+    import numpy as np
     pitch = math.asin(max(-1.0, min(1.0, -R[2, 0])))
     roll = math.atan2(R[2, 1], R[2, 2])
     yaw = math.atan2(R[1, 0], R[0, 0])
     return np.degrees([roll, pitch, yaw])
 
 
-def evaluate(gt, est):
-    idx = np.searchsorted(est[:, 0], gt[:, 0], side="right") - 1
-    valid = idx >= 0
-    g = gt[valid]
-    e = est[idx[valid]]
-    pos_err = np.linalg.norm(g[:, 1:4] - e[:, 1:4], axis=1)
-    ang_err = np.empty(len(g))
-    for i in range(len(g)):
-        R = quat_to_rot(e[i, 4:8]).T @ quat_to_rot(g[i, 4:8])
-        ang_err[i] = math.degrees(math.acos(max(-1.0, min(1.0, (np.trace(R) - 1) / 2))))
-    return g, e, pos_err, ang_err
-
-
-def plot(g, e, pos_err, ang_err, path, title):
+def plot(gt_path, est_path, summary, path, title):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    t0 = g[0, 0]
-    t = g[:, 0] - t0
+    import numpy as np
+    gt, est = load_tum(gt_path), load_tum(est_path)
+    # The estimate in force at each ground-truth sample (drawn as the metric pairs them).
+    idx = np.searchsorted(est[:, 0], gt[:, 0], side="right") - 1
+    g, e = gt[idx >= 0], est[idx[idx >= 0]]
+    t = g[:, 0] - g[0, 0]
     # unwrapped so that full rolls (flips) draw as ramps, not saw teeth
     g_rpy = np.degrees(np.unwrap(np.radians([rot_to_rpy_deg(quat_to_rot(q)) for q in g[:, 4:8]]), axis=0))
     e_rpy_raw = np.array([rot_to_rpy_deg(quat_to_rot(q)) for q in e[:, 4:8]])
@@ -103,9 +163,9 @@ def plot(g, e, pos_err, ang_err, path, title):
             ax.legend(lines, [ln.get_label() for ln in lines], loc="best", fontsize=8)
     axes[2, 0].set_xlabel("t [s]")
     axes[2, 1].set_xlabel("t [s]")
-    fig.suptitle("%s\nposition RMS %.2f cm, max %.2f cm; orientation RMS %.2f deg, max %.2f deg" % (
-        title, 100 * math.sqrt(np.mean(pos_err ** 2)), 100 * pos_err.max(),
-        math.sqrt(np.mean(ang_err ** 2)), ang_err.max()))
+    fig.suptitle("%s\nposition RMS %.2f cm, max %.2f cm; orientation RMS %.2f deg, max %.2f deg; tracked %.1f %%" % (
+        title, summary["position_rms_cm"], summary["position_max_cm"], summary["orientation_rms_deg"],
+        summary["orientation_max_deg"], summary["tracked_percent"]))
     fig.tight_layout()
     fig.savefig(path, dpi=90)
 
@@ -116,33 +176,22 @@ def main():
     ap.add_argument("--est", required=True)
     ap.add_argument("--plot")
     ap.add_argument("--json")
+    ap.add_argument("--max-age", type=float, help="s; an older estimate counts as none (the tool's default)")
     ap.add_argument("--title", default="estimate vs ground truth")
     args = ap.parse_args()
-    gt = load_tum(args.gt)
-    est = load_tum(args.est)
-    g, e, pos_err, ang_err = evaluate(gt, est)
-    if len(g) == 0:
-        sys.exit("no ground-truth sample after the first estimate (t_est0 = %.6f, gt ends %.6f)" % (est[0, 0], gt[-1, 0]))
-    tracked = np.logical_and(pos_err < 0.10, ang_err < 10.0)
-    summary = {
-        "gt_samples_evaluated": int(len(g)),
-        "gt_samples_total": int(len(gt)),
-        "first_estimate_after_s": float(est[0, 0] - gt[0, 0]),
-        "position_rms_cm": round(100 * math.sqrt(float(np.mean(pos_err ** 2))), 3),
-        "position_max_cm": round(100 * float(pos_err.max()), 3),
-        "orientation_rms_deg": round(math.sqrt(float(np.mean(ang_err ** 2))), 3),
-        "orientation_max_deg": round(float(ang_err.max()), 3),
-        "tracked_percent": round(100.0 * float(np.mean(tracked)), 2),
-        "estimates": int(len(est)),
-    }
-    if args.plot:
-        plot(g, e, pos_err, ang_err, args.plot, args.title)
-        summary["plot"] = args.plot
-    line = json.dumps(summary)
+    try:
+        summary = summary_of(run_tool(args.gt, args.est, args.max_age))
+        if args.plot:
+            plot(args.gt, args.est, summary, args.plot, args.title)
+            summary["plot"] = args.plot
+        line = json.dumps(summary)
+        if args.json:
+            with open(args.json, "w") as f:
+                f.write(line + "\n")
+    except (EvaluationError, OSError) as e:
+        sys.stderr.write("evaluate_trajectory.py: %s\n" % e)
+        return 1
     print(line)
-    if args.json:
-        with open(args.json, "w") as f:
-            f.write(line + "\n")
     return 0
 
 

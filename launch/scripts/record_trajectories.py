@@ -269,9 +269,13 @@ class Recorder:
                 "estimate_latency_max_ms": round(1e3 * max(self.latencies), 2) if self.latencies else 0.0,
                 "tracker_diagnostics": self.diagnostics,
             }
-        with open(os.path.join(self.output_dir, "run.json"), "w") as f:
+        # Written last and atomically (a complete file appears under its name at once): a
+        # reader that finds run.json finds it whole, and the TUM files above already closed.
+        tmp = os.path.join(self.output_dir, ".run.json.tmp")
+        with open(tmp, "w") as f:
             json.dump(run, f, indent=1)
             f.write("\n")
+        os.replace(tmp, os.path.join(self.output_dir, "run.json"))
         rospy.loginfo("record_trajectories: %s: %d estimates, %d ground-truth poses, %d events -> %s",
                       reason, run["estimates"], run["groundtruth_poses"], run["events"], self.output_dir)
         return run

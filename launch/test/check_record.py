@@ -27,15 +27,20 @@ class RecordTest(unittest.TestCase):
         run_json = os.path.join(out, "run.json")
         start = time.time()
         deadline = time.monotonic() + timeout
-        while time.monotonic() < deadline and not rospy.is_shutdown():
-            if os.path.exists(run_json) and os.path.getmtime(run_json) >= start - 1:
-                break
-            time.sleep(0.2)
-        else:
-            self.fail("the recorder did not end the run within %.0f s (no fresh %s)" % (timeout, run_json))
-        time.sleep(0.5)  # the recorder writes run.json last
-        with open(run_json) as f:
-            run = json.load(f)
+        run = None
+        # The recorder writes run.json last and atomically (after the TUM files): wait until a
+        # fresh one parses; polling a condition, not a fixed delay.
+        while run is None and time.monotonic() < deadline and not rospy.is_shutdown():
+            try:
+                if os.path.getmtime(run_json) >= start - 1:
+                    with open(run_json) as f:
+                        run = json.load(f)
+            except (OSError, ValueError):
+                pass
+            if run is None:
+                time.sleep(0.2)
+        if run is None:
+            self.fail("the recorder did not end the run within %.0f s (no fresh, complete %s)" % (timeout, run_json))
         self.assertTrue(run["end"].startswith("run over"), run["end"])
         self.assertGreater(run["events"], 10000, "events counted on /dvs/events")
         self.assertGreater(run["estimates"], 1000, "tracker pose batches recorded")

@@ -1,16 +1,16 @@
 #!/usr/bin/env python3
 """rostest: rviz draws what its configs promise, against a running simulation.
 
-For each config in ~configs, starts rviz under its own X server (xvfb-run), waits, takes a
-screenshot of the whole screen (ImageMagick `import -window root`), stops rviz, and counts
-pixels of the colours that only the wanted objects have:
+For each config, starts rviz under its own X server (xvfb-run), takes a screenshot of the whole
+screen (ImageMagick `import -window root`) about every second and counts pixels of the colours
+that only the wanted objects have, until they are all drawn (then stops rviz):
   map        the map's segments: the simulator's ground-truth map (green 0.1 0.9 0.1) or the
              tracker's map markers (~map_colors)
   estimate   the estimated camera: its frustum (orange 1 0.5 0, camera_visuals) and the TF axes
   truth      (simulation config only) the ground-truth camera's frustum (cyan 0 0.8 1)
 A config passes when every required colour covers at least ~min_pixels pixels; rviz start-up
-is retried (up to ~attempts times, waiting longer each time). The screenshots are kept in
-~out_dir (<config>.png) for a human to look at.
+is retried (up to ~attempts times, waiting up to 20 s, 30 s, 40 s for the drawing). The last
+screenshots are kept in ~out_dir (<config>.png) for a human to look at.
 """
 import os
 import subprocess
@@ -59,15 +59,44 @@ def count_colours(img, colours, tol):
 
 
 class RvizScreenshotTest(unittest.TestCase):
-    def screenshot(self, config, path, wait_s):
-        script = ('rviz -d "$0" > "$1.rviz.log" 2>&1 & pid=$!; sleep %d; import -window root "$1"; '
+    def watch_rviz(self, config, path, judge, wait_s):
+        """rviz with `config` under its own X server; a screenshot of the whole screen about every
+        second (ImageMagick `import`, renamed into `path` when complete) until judge(image) is
+        true or wait_s have passed. Returns (passed, the last verdict)."""
+        stop = path + ".stop"
+        for stale in (path, stop):
+            if os.path.exists(stale):
+                os.remove(stale)
+        script = ('rviz -d "$0" > "$1.rviz.log" 2>&1 & pid=$!; '
+                  'while [ ! -e "$1.stop" ] && kill -0 $pid 2>/dev/null; do '
+                  'import -window root "$1.tmp.png" 2>/dev/null && mv -f "$1.tmp.png" "$1"; sleep 1; done; '
                   'kill -INT $pid; for i in $(seq 50); do kill -0 $pid 2>/dev/null || break; sleep 0.1; done; '
-                  'kill -KILL $pid 2>/dev/null; true') % wait_s
+                  'kill -KILL $pid 2>/dev/null; true')
         cmd = ["xvfb-run", "-a", "-s", "-screen 0 1280x1024x24", "bash", "-c", script, config, path]
-        subprocess.run(cmd, timeout=wait_s + 60, check=False, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-        if not os.path.exists(path):
-            return None
-        return np.asarray(Image.open(path).convert("RGB"))
+        proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        deadline = time.monotonic() + wait_s
+        verdict, seen, passed = {"screenshot": "missing"}, None, False
+        try:
+            while time.monotonic() < deadline and proc.poll() is None and not rospy.is_shutdown():
+                stamp = os.path.getmtime(path) if os.path.exists(path) else None
+                if stamp is not None and stamp != seen:
+                    seen = stamp
+                    try:
+                        img = np.asarray(Image.open(path).convert("RGB"))
+                    except (OSError, ValueError):
+                        continue  # replaced while reading: the next one
+                    passed, verdict = judge(img)
+                    if passed:
+                        break
+                time.sleep(0.2)
+        finally:
+            open(stop, "w").close()
+            try:
+                proc.wait(timeout=30)
+            except subprocess.TimeoutExpired:
+                proc.kill()
+            os.remove(stop)
+        return passed, verdict
 
     def check_config(self, name, required):
         out_dir = rospy.get_param("~out_dir")
@@ -76,23 +105,22 @@ class RvizScreenshotTest(unittest.TestCase):
         min_pixels = int(rospy.get_param("~min_pixels", 40))
         tol = int(rospy.get_param("~tolerance", 30))
         config = os.path.realpath(os.path.join(RVIZ_DIR, name + ".rviz"))
+
+        def judge(img):
+            view = render_area(img)
+            if view is None:
+                return False, {"3d view": "not found"}
+            counts = {k: count_colours(view, colours, tol) for k, colours in required.items()}
+            return all(v >= min_pixels for v in counts.values()), counts
+
         counts = {}
         for attempt in range(attempts):
             path = os.path.join(out_dir, "%s.png" % name)
-            if os.path.exists(path):
-                os.remove(path)
-            img = self.screenshot(config, path, wait_s=10 + 5 * attempt)
-            if img is None:
-                counts = {"screenshot": "missing"}
-                continue
-            view = render_area(img)
-            if view is None:
-                counts = {"3d view": "not found"}
-                continue
-            counts = {k: count_colours(view, colours, tol) for k, colours in required.items()}
+            # Until drawn, at most 20 s (+10 s per retry) after rviz starts; a retry starts a new rviz.
+            passed, counts = self.watch_rviz(config, path, judge, wait_s=20 + 10 * attempt)
             rospy.loginfo("rviz %s attempt %d: %s", name, attempt + 1, counts)
-            if all(v >= min_pixels for v in counts.values()):
-                rospy.loginfo("rviz %s: drawn (3D view %dx%d px)", name, view.shape[1], view.shape[0])
+            if passed:
+                rospy.loginfo("rviz %s: drawn", name)
                 return counts
         self.fail("rviz config %s: not drawn after %d attempts: pixel counts %s (need >= %d each; see %s)" % (
             name, attempts, counts, min_pixels, out_dir))

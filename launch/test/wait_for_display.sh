@@ -1,13 +1,14 @@
 #!/bin/sh
-# Test helper (launch-prefix): wait until the X server of $DISPLAY listens (its socket exists,
-# at most 30 s), then run the command. screen_sim.test starts its own Xvfb as a node, in
-# parallel with the nodes that need it.
-number="${DISPLAY#*:}"
-socket="/tmp/.X11-unix/X${number%%.*}"
+# Test helper (launch-prefix): wait until the X server of $DISPLAY accepts clients (xdpyinfo
+# connects; at most 30 s), then run the command. screen_sim.test starts its own Xvfb as a node,
+# in parallel with the nodes that need it. Fails with a message naming the display on timeout.
 i=0
-while [ ! -S "$socket" ] && [ $i -lt 300 ]; do
+until xdpyinfo -display "$DISPLAY" >/dev/null 2>&1; do
+  if [ $i -ge 300 ]; then
+    echo "wait_for_display.sh: no X server accepting clients on DISPLAY=$DISPLAY after 30 s" >&2
+    exit 1
+  fi
   sleep 0.1
   i=$((i + 1))
 done
-sleep 0.5
 exec "$@"

@@ -1,11 +1,15 @@
 // evaluate_trajectory: the suite's one accuracy metric (trajectory_accuracy.h) on two TUM files.
 //   evaluate_trajectory --groundtruth gt.txt --estimate est.txt [--from T0] [--to T1]
 //                       [--max-age S] [--max-position M] [--max-orientation-deg D]
-// Prints one JSON object (metres, degrees); exit 1 with a message naming the file on bad input.
+// Prints one JSON object (metres, degrees): the AccuracyReport's keys plus the files' sizes
+// (groundtruth_poses, estimate_poses) and the first ground-truth time (groundtruth_start_s), so
+// a caller (launch/scripts/evaluate_trajectory.py) needs no figure of its own. Exit 1 with a
+// message naming the file on bad input.
 #include <dvs_calibration/trajectory_accuracy.h>
 #include <dvs_calibration/trajectory_file.h>
 
 #include <cerrno>
+#include <cstdio>
 #include <cstdlib>
 #include <iostream>
 #include <string>
@@ -74,7 +78,12 @@ int main(int argc, char** argv)
     const Trajectory est = readTumTrajectory(est_path, TimeOrder::NonDecreasing);
     if (gt.empty())
       throw std::runtime_error(gt_path + ": no poses");
-    std::cout << evaluateTrajectory(est, gt, o).json() << std::endl;
+    std::string json = evaluateTrajectory(est, gt, o).json();
+    char extra[160];
+    std::snprintf(extra, sizeof(extra), ", \"groundtruth_poses\": %zu, \"estimate_poses\": %zu, \"groundtruth_start_s\": %.6f}",
+                  gt.size(), est.size(), gt.front().t);
+    json.pop_back();  // the closing brace
+    std::cout << json << extra << std::endl;
   }
   catch (const std::exception& e)
   {
