@@ -1,6 +1,7 @@
 // The screen-in-the-loop procedure (the code the screen_loop node and the emulation both run) on
 // fakes: a screen that records what is drawn and shows frames on a simulated clock, and an event
 // source with a known clock offset that hands out scripted events. No OpenGL, no display.
+#include <dvs_screen_sim/screen_loop/live_event_collector.h>
 #include <dvs_screen_sim/screen_loop/screen_loop_procedure.h>
 
 #include <gtest/gtest.h>
@@ -212,4 +213,29 @@ TEST(ScreenLoopProcedure, RefusesABadConfigurationNamingTheField)
   {
     EXPECT_NE(std::string(e.what()).find("alignment_attempts"), std::string::npos);
   }
+}
+
+// The node's event source: the DVS clock from the packets, and the events arriving while kept
+// (late packets included: a live sensor's window is what arrives).
+TEST(LiveEventCollector, LearnsTheClockAndKeepsWhatArrives)
+{
+  LiveEventCollector c;
+  EXPECT_FALSE(c.clockValid());
+  const dvs_driver::Event a[] = {{1000, 1, 1, true}, {2000, 2, 2, false}};
+  c.addPacket(a, a + 2, 5000);  // arrived 3 us after its last event: offset <= -3000
+  EXPECT_TRUE(c.clockValid());
+  EXPECT_EQ(c.dvsTimeNs(10000), 7000);
+  const dvs_driver::Event b[] = {{4000, 3, 3, true}};
+  c.addPacket(b, b + 1, 5500);  // less delayed: offset -1500
+  EXPECT_EQ(c.dvsTimeNs(10000), 8500);
+  EXPECT_TRUE(c.takeKept().empty());  // nothing kept before keepFrom
+  c.keepFrom(c.dvsTimeNs(6000));
+  const dvs_driver::Event late[] = {{3000, 4, 4, true}, {6000, 5, 5, false}};
+  c.addPacket(late, late + 2, 9000);
+  const auto kept = c.takeKept();
+  ASSERT_EQ(kept.size(), 2u);
+  EXPECT_EQ(kept[0].t_ns, 3000);
+  c.addPacket(late, late + 2, 9500);
+  EXPECT_TRUE(c.takeKept().empty());  // not keeping any more
+  EXPECT_EQ(c.packets(), 4u);
 }

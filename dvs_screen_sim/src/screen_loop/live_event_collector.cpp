@@ -1,7 +1,5 @@
 #include <dvs_screen_sim/screen_loop/live_event_collector.h>
 
-#include <limits>
-
 namespace dvs_screen_sim
 {
 namespace screen_loop
@@ -14,9 +12,7 @@ void LiveEventCollector::addPacket(const dvs_driver::Event* begin, const dvs_dri
     clock_.addPacket((end - 1)->t_ns, arrival_host_ns);
   if (!keeping_)
     return;
-  for (const dvs_driver::Event* e = begin; e != end; ++e)
-    if (e->t_ns >= keep_from_ns_)
-      kept_.push_back(*e);
+  kept_.insert(kept_.end(), begin, end);
 }
 
 int64_t LiveEventCollector::dvsTimeNs(int64_t host_ns) const
@@ -37,11 +33,10 @@ size_t LiveEventCollector::packets() const
   return clock_.packets();
 }
 
-void LiveEventCollector::keepFrom(int64_t from_dvs_ns)
+void LiveEventCollector::keepFrom(int64_t)
 {
   std::lock_guard<std::mutex> lock(mutex_);
   keeping_ = true;
-  keep_from_ns_ = clock_.valid() ? from_dvs_ns : std::numeric_limits<int64_t>::min();
   kept_.clear();
 }
 

@@ -39,7 +39,7 @@ struct RunResult
   std::string dir;
   size_t events = 0;
   double position_rms_mm = 0, orientation_rms_deg = 0;
-  double coverage = 0;  ///< tracked fraction of the ground-truth samples (evaluateTrajectory)
+  double coverage = 0;  ///< share of the flight's ground-truth samples tracked (evaluateTrajectory's rule)
   double first_estimate = 0;  ///< time of the first pose (when the tracker initialised)
 };
 
@@ -141,7 +141,11 @@ void score(const std::string& dir, double from, RunResult& r)
     throw std::runtime_error("no estimated pose inside the ground truth's time span of " + dir);
   r.position_rms_mm = a.rms_position_m * 1e3;
   r.orientation_rms_deg = a.rms_orientation_rad * 180.0 / M_PI;
-  r.coverage = a.trackedFraction();
+  // The share of the whole flight (from `from`) tracked: before the tracker initialises nothing is.
+  size_t flight = 0;
+  for (const auto& g : groundtruth)
+    flight += g.t >= from ? 1 : 0;
+  r.coverage = flight > 0 ? static_cast<double>(a.samples_tracked) / static_cast<double>(flight) : 0.0;
 }
 
 double firstEstimateTime(const std::string& path)
@@ -276,9 +280,10 @@ int runScreenLoopTrackerComparison(int argc, char** argv)
   std::printf("tracker on the emulated screen in the loop vs pure software: scenario %s, monitor response %.1f ms, "
               "seeds 0..%d\n(datasets in %s, stderr of the programs in %s)\n",
               scenario.c_str(), response_ms, seeds - 1, work.c_str(), log.c_str());
-  std::printf("pos/ori: RMS position [mm] / orientation [deg] error; tracked: share of the flight with poses, from\n"
-              "init [s] on; ratios to the same seed's pure-software run over each run's own span, and over the span\n"
-              "both track (common)\n");
+  std::printf("pos/ori: RMS position [mm] / orientation [deg] error (dvs_calibration::evaluateTrajectory: at the\n"
+              "ground-truth samples, the latest pose at or before each); tracked: share of the flight's ground-truth\n"
+              "samples tracked (a pose at most 50 ms old within 10 cm / 10 deg), from init [s] on; ratios to the\n"
+              "same seed's pure-software run over each run's own span, and over the span both track (common)\n");
   std::printf("%-10s %4s %-26s %8s %9s %9s %7s %6s %9s %9s %9s %9s\n", "noise", "seed", "run", "events", "pos_rms",
               "ori_rms", "tracked", "init", "pos_ratio", "ori_ratio", "pos_comm", "ori_comm");
   // Per (noise, run label): per-seed values and ratios to the same seed's pure-software run.

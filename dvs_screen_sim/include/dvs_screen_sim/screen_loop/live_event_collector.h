@@ -18,7 +18,8 @@ public:
 
   int64_t dvsTimeNs(int64_t host_ns) const override;
   bool clockValid() const override;
-  /// While the clock is not valid every arriving event is kept.
+  /// Keeps every event arriving from now on (`from_dvs_ns` is not used: a late packet still
+  /// belongs to the window; play() drops what is stamped before its start).
   void keepFrom(int64_t from_dvs_ns) override;
   void drain() override {}
   dvs_driver::EventVector takeKept() override;
@@ -29,7 +30,6 @@ private:
   mutable std::mutex mutex_;
   DvsClockOffset clock_;
   bool keeping_ = false;
-  int64_t keep_from_ns_ = 0;
   dvs_driver::EventVector kept_;
 };
 }  // namespace screen_loop

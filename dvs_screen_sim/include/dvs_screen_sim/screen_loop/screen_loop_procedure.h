@@ -68,8 +68,10 @@ public:
   virtual int64_t dvsTimeNs(int64_t screen_ns) const = 0;
   /// Whether dvsTimeNs is known (a live sensor: once its first packet arrived).
   virtual bool clockValid() const = 0;
-  /// Keep, from now on, the events stamped at or after `from_dvs_ns` (every arriving event
-  /// while the clock is not valid), until takeKept().
+  /// Keep the events delivered from now on, until takeKept(). `from_dvs_ns` is now in the DVS's
+  /// clock: a source that knows where "now" is in its stream (the software DVS) keeps exactly
+  /// the events stamped from then on; a live sensor keeps what arrives from now on (its packets
+  /// come late by the transfer latency, and a lagging sensor must not lose the window).
   virtual void keepFrom(int64_t from_dvs_ns) = 0;
   /// Deliver the events still in flight (the end of a recording).
   virtual void drain() = 0;
