@@ -17,7 +17,7 @@
 
 namespace dvs_line_tracker
 {
-/// T_world_cam as a function of time (s), returned as the tracker's Pose.
+/// T_world_camera as a function of time (s).
 using PoseFunction = std::function<Pose(double t_s)>;
 
 struct SyntheticEventParams

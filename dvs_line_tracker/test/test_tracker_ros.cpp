@@ -165,7 +165,7 @@ TEST(TrackerRos, TracksASimulatedBag)
                                      [](const auto& g, double tt) { return g.t < tt; });
     ASSERT_NE(it, sim.groundtruth.end());
     const auto& p = rx.poses[i].pose.position;
-    worst = std::max(worst, (Eigen::Vector3d(p.x, p.y, p.z) - it->T_world_cam.p).norm());
+    worst = std::max(worst, (Eigen::Vector3d(p.x, p.y, p.z) - it->T_world_camera.p_world_camera()).norm());
   }
   EXPECT_LT(worst, 0.25) << "of " << rx.poses.size() << " poses, first at " << rx.poses.front().header.stamp;
   // TF world -> dvs at the last pose.

@@ -1,6 +1,6 @@
 #include <dvs_driver/event_text_io.h>
 #include <dvs_screen_sim/dataset.h>
-#include <dvs_screen_sim/trajectory_io.h>
+#include <dvs_calibration/trajectory_file.h>
 
 #include <ctime>
 #include <filesystem>
@@ -88,14 +88,14 @@ void writeDataset(const std::string& dir, const SimConfig& config, const Simulat
   writeDatasetWithoutEvents(dir, config, output.groundtruth);
 }
 
-void writeDatasetWithoutEvents(const std::string& dir, const SimConfig& config, const PoseTrajectory& groundtruth)
+void writeDatasetWithoutEvents(const std::string& dir, const SimConfig& config, const dvs_calibration::Trajectory& groundtruth)
 {
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
   if (ec)
     throw std::runtime_error("cannot create output folder '" + dir + "': " + ec.message());
   const std::string base = dir + "/";
-  writeTumTrajectory(base + "groundtruth.txt", groundtruth, "t px py pz qx qy qz qw (T_world_cam)");
+  dvs_calibration::writeTumTrajectory(base + "groundtruth.txt", groundtruth, "t px py pz qx qy qz qw (T_world_camera)");
   dvs_calibration::saveCalibTxt(base + "calib.txt", config.camera);
   dvs_calibration::saveCameraInfoYaml(base + "camera_info.yaml", config.camera, "dvs_screen_sim");
   writeLineMapYaml(base + "map.yaml", config.scene);

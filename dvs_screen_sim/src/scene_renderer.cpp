@@ -137,7 +137,7 @@ void SceneRenderer::addVisibleEdgePoints(const std::vector<Eigen::Vector2d>& out
 {
   // Edge points inside the view, every <= kEdgePieceLength px, with their wall points (for motion bounds and
   // the band of pixels the edges touch).
-  const Eigen::Vector3d& c = T_world_cam_.p;
+  const Eigen::Vector3d& c = p_world_camera_;
   for (size_t i = 0; i < outline.size(); ++i)
   {
     Eigen::Vector2d a = outline[i], b = outline[(i + 1) % outline.size()];
@@ -147,7 +147,7 @@ void SceneRenderer::addVisibleEdgePoints(const std::vector<Eigen::Vector2d>& out
     for (int j = 0; j <= pieces; ++j)
     {
       const Eigen::Vector2d xn = a + (b - a) * (static_cast<double>(j) / pieces);
-      const Eigen::Vector3d d_world = R_world_cam_ * Eigen::Vector3d(xn.x(), xn.y(), 1.0);
+      const Eigen::Vector3d d_world = R_world_camera_ * Eigen::Vector3d(xn.x(), xn.y(), 1.0);
       if (std::abs(d_world.z()) < 1e-12)
         continue;
       const double s = -c.z() / d_world.z();
@@ -162,19 +162,21 @@ void SceneRenderer::addVisibleEdgePoints(const std::vector<Eigen::Vector2d>& out
   }
 }
 
-void SceneRenderer::setState(const Pose& T_world_cam, double t)
+void SceneRenderer::setState(const Pose& T_world_camera, double t)
 {
   // Images change the picture everywhere when the camera moves, their gain changes or their
   // content is refreshed; otherwise their pixels keep their intensities.
-  images_changed_ = !has_state_ || T_world_cam.p != T_world_cam_.p || T_world_cam.q.coeffs() != T_world_cam_.q.coeffs();
+  images_changed_ = !has_state_ || T_world_camera.t_camera_world != T_world_camera_.t_camera_world ||
+                    T_world_camera.R_camera_world != T_world_camera_.R_camera_world;
   has_state_ = true;
   content_transition_ = 0;
-  T_world_cam_ = T_world_cam;
+  T_world_camera_ = T_world_camera;
+  p_world_camera_ = T_world_camera.p_world_camera();
   time_ = t;
   background_ = scene_.background_reflectance;
-  const Eigen::Matrix3d R_cam_world = T_world_cam.q.conjugate().toRotationMatrix();
-  const Eigen::Vector3d t_cam_world = -R_cam_world * T_world_cam.p;
-  R_world_cam_ = R_cam_world.transpose();
+  const Eigen::Matrix3d& R_cam_world = T_world_camera.R_camera_world;
+  const Eigen::Vector3d& t_cam_world = T_world_camera.t_camera_world;
+  R_world_camera_ = R_cam_world.transpose();
   visible_edge_points_world_.clear();
   visible_edge_points_px_.clear();
   for (size_t k = 0; k < scene_.polygons.size(); ++k)
@@ -237,10 +239,10 @@ void SceneRenderer::setState(const Pose& T_world_cam, double t)
   }
   // Wall points of every pixel corner (NaN when the ray misses the wall).
   corner_wall_.resize(corners_.size());
-  const Eigen::Vector3d& c = T_world_cam.p;
+  const Eigen::Vector3d& c = p_world_camera_;
   for (size_t i = 0; i < corners_.size(); ++i)
   {
-    const Eigen::Vector3d d = R_world_cam_ * Eigen::Vector3d(corners_[i].x(), corners_[i].y(), 1.0);
+    const Eigen::Vector3d d = R_world_camera_ * Eigen::Vector3d(corners_[i].x(), corners_[i].y(), 1.0);
     const double s = std::abs(d.z()) < 1e-12 ? -1.0 : -c.z() / d.z();
     corner_wall_[i] = s > 0 ? Eigen::Vector2d(c.x() + s * d.x(), c.y() + s * d.y())
                             : Eigen::Vector2d::Constant(std::nan(""));
@@ -437,7 +439,7 @@ void SceneRenderer::appendEdgePixels(std::vector<int32_t>& pixels, std::vector<u
   }
 }
 
-double SceneRenderer::maxImageMotion(const Pose& T_world_cam_other) const
+double SceneRenderer::maxImageMotion(const Pose& T_world_camera_other) const
 {
   double max_motion = 0;
   for (size_t i = 0; i < visible_edge_points_world_.size(); ++i)
@@ -446,7 +448,7 @@ double SceneRenderer::maxImageMotion(const Pose& T_world_cam_other) const
     if (std::isnan(pw.x()))
       continue;
     Eigen::Vector2d px;
-    if (!camera_.project(T_world_cam_other.worldToCam(pw), px))
+    if (!camera_.project(T_world_camera_other.toCamera(pw), px))
       return 1e6;
     max_motion = std::max(max_motion, (px - visible_edge_points_px_[i]).norm());
   }

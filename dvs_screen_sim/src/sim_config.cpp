@@ -1,5 +1,5 @@
 #include <dvs_screen_sim/sim_config.h>
-#include <dvs_screen_sim/trajectory_io.h>
+#include <dvs_calibration/trajectory_file.h>
 
 #include <algorithm>
 #include <cmath>
@@ -324,18 +324,34 @@ std::unique_ptr<Trajectory> makeTrajectory(const SimConfig& config)
       const std::string path = as<std::string>(tr["file"]["path"], "trajectory.file.path");
       if (path.empty())
         throw ConfigError("scenario 'file' needs trajectory.file.path (a TUM or CSV trajectory)");
-      return std::make_unique<SampledTrajectory>(readTumTrajectory(path));
+      return std::make_unique<SampledTrajectory>(dvs_calibration::readTumTrajectory(path));
     }
   }
   catch (const TrajectoryError& e)
   {
     throw ConfigError(e.what());
   }
-  catch (const TrajectoryFileError& e)
+  catch (const dvs_calibration::TrajectoryFileError& e)
   {
     throw ConfigError(e.what());
   }
   throw ConfigError("unknown scenario '" + s + "' (known: flip, helix, circle, linear, random, file)");
+}
+
+void addSharedRunParams(dvs_driver::ParamTable& table, SimRunParams& p)
+{
+  table.add("duration", p.duration, "s", 0, 1e308, "simulated length (0: the scenario's natural length)");
+  table.add("packet_period", p.packet_period, "s", 0, 10, "simulated time per event packet (ROS message, bag)")
+      .min_exclusive = true;
+}
+
+dvs_driver::ParamTable simRunParamTable(SimRunParams& p)
+{
+  dvs_driver::ParamTable table("dvs_screen_sim configuration");
+  addSharedRunParams(table, p);
+  table.add("time_offset", p.time_offset, "s", 0, 1e308, "added to every output time stamp");
+  table.add("groundtruth_rate", p.groundtruth_rate, "Hz", 0, 1e308, "ground-truth poses per second").min_exclusive = true;
+  return table;
 }
 
 SimConfig resolveSimConfig(const std::string& scenario, const YAML::Node& overrides, std::optional<uint64_t> seed,
@@ -356,16 +372,17 @@ SimConfig resolveSimConfig(const std::string& scenario, const YAML::Node& overri
   SimConfig c;
   c.scenario = scenario;
   c.seed = as<uint64_t>(tree["seed"], "seed");
-  c.groundtruth_rate = num(tree, "groundtruth_rate", "");
-  if (!(c.groundtruth_rate > 0))
-    throw ConfigError("groundtruth_rate must be > 0");
-  c.packet_period = num(tree, "packet_period", "");
-  if (!(c.packet_period > 0))
-    throw ConfigError("packet_period must be > 0");
-  const double offset = num(tree, "time_offset", "");
-  if (offset < 0)
-    throw ConfigError("time_offset must be >= 0");
-  c.time_offset_ns = static_cast<int64_t>(std::llround(offset * 1e9));
+  SimRunParams run;
+  run.duration = num(tree, "duration", "");
+  run.time_offset = num(tree, "time_offset", "");
+  run.groundtruth_rate = num(tree, "groundtruth_rate", "");
+  run.packet_period = num(tree, "packet_period", "");
+  const std::string bad = simRunParamTable(run).validate();
+  if (!bad.empty())
+    throw ConfigError(bad);
+  c.groundtruth_rate = run.groundtruth_rate;
+  c.packet_period = run.packet_period;
+  c.time_offset_ns = static_cast<int64_t>(std::llround(run.time_offset * 1e9));
   c.camera = resolveCamera(tree["camera"]);
 
   YAML::Node scene_node = tree["scene"];
@@ -406,9 +423,7 @@ SimConfig resolveSimConfig(const std::string& scenario, const YAML::Node& overri
 
   c.resolved = tree;
   // Resolve the duration: explicit, else the trajectory's natural length.
-  c.duration = num(tree, "duration", "");
-  if (c.duration < 0)
-    throw ConfigError("duration must be >= 0 (0: the scenario's natural length)");
+  c.duration = run.duration;
   if (c.duration == 0)
   {
     if (scenario == "random")

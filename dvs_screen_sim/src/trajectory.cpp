@@ -56,10 +56,8 @@ LinearTrajectory::LinearTrajectory(const LinearTrajectoryParams& params) : p_(pa
 Pose LinearTrajectory::poseAt(double t) const
 {
   const double s = std::clamp(t / p_.duration, 0.0, 1.0);
-  Pose pose;
-  pose.p = (1 - s) * p_.start_position + s * p_.end_position;
-  pose.q = orientationFromYawPitchRollDeg((1 - s) * p_.start_ypr_deg + s * p_.end_ypr_deg);
-  return pose;
+  return Pose::fromWorldCamera(orientationFromYawPitchRollDeg((1 - s) * p_.start_ypr_deg + s * p_.end_ypr_deg),
+                               Eigen::Vector3d((1 - s) * p_.start_position + s * p_.end_position));
 }
 
 // ---------------------------------------------------------------- helix (Eq. 4.5)
@@ -82,10 +80,8 @@ Pose HelixTrajectory::poseAt(double t) const
   const double d = p_.start_distance + (p_.end_distance - p_.start_distance) * sc;
   const Eigen::Quaterniond q_cam_world =
       axisAngle(phi, Eigen::Vector3d::UnitX()) * axisAngle(theta, Eigen::Vector3d::UnitZ());
-  Pose pose;
-  pose.q = q_cam_world.conjugate().normalized();
-  pose.p = -(pose.q * Eigen::Vector3d(0, 0, d));
-  return pose;
+  const Eigen::Quaterniond q_world_camera = q_cam_world.conjugate().normalized();
+  return Pose::fromWorldCamera(q_world_camera, Eigen::Vector3d(-(q_world_camera * Eigen::Vector3d(0, 0, d))));
 }
 
 // ---------------------------------------------------------------- flip
@@ -137,12 +133,11 @@ Pose FlipTrajectory::poseAt(double t) const
     height += p_.rise * std::exp(-0.5 * u * u);
   }
   const double w = 2 * M_PI * p_.sway_frequency;
-  Pose pose;
-  pose.p = Eigen::Vector3d(p_.offset.x() + p_.sway * std::sin(w * t),
-                           p_.offset.y() + height + 0.5 * p_.sway * std::sin(1.3 * w * t + 1.0),
-                           p_.distance + 0.5 * p_.sway * std::sin(0.7 * w * t + 2.0));
-  pose.q = (lookingAtWallOrientation() * axisAngle(rollAt(t), Eigen::Vector3d::UnitZ())).normalized();
-  return pose;
+  const Eigen::Vector3d p(p_.offset.x() + p_.sway * std::sin(w * t),
+                          p_.offset.y() + height + 0.5 * p_.sway * std::sin(1.3 * w * t + 1.0),
+                          p_.distance + 0.5 * p_.sway * std::sin(0.7 * w * t + 2.0));
+  return Pose::fromWorldCamera(
+      (lookingAtWallOrientation() * axisAngle(rollAt(t), Eigen::Vector3d::UnitZ())).normalized(), p);
 }
 
 // ---------------------------------------------------------------- random
@@ -181,79 +176,80 @@ Pose RandomTrajectory::poseAt(double t) const
     for (const auto& s : axes_[a])
       v[a] += s.amplitude * (std::sin(s.omega * t + s.phase) - std::sin(s.phase));
   }
-  Pose pose;
-  pose.p = Eigen::Vector3d(v[0], v[1], p_.distance + v[2]);
-  pose.q = orientationFromYawPitchRollDeg(Eigen::Vector3d(v[3], v[4], v[5]) / kDegToRad);
-  return pose;
+  return Pose::fromWorldCamera(orientationFromYawPitchRollDeg(Eigen::Vector3d(v[3], v[4], v[5]) / kDegToRad),
+                               Eigen::Vector3d(v[0], v[1], p_.distance + v[2]));
 }
 
 // ---------------------------------------------------------------- sampled (file playback)
-SampledTrajectory::SampledTrajectory(PoseTrajectory poses) : poses_(std::move(poses))
+SampledTrajectory::SampledTrajectory(dvs_calibration::Trajectory poses)
 {
-  if (poses_.size() < 2)
-    throw TrajectoryError("a sampled trajectory needs at least 2 poses (got " + std::to_string(poses_.size()) + ")");
-  const double t0 = poses_.front().t;
-  for (size_t i = 0; i < poses_.size(); ++i)
+  if (poses.size() < 2)
+    throw TrajectoryError("a sampled trajectory needs at least 2 poses (got " + std::to_string(poses.size()) + ")");
+  const double t0 = poses.front().t;
+  const size_t n = poses.size();
+  t_.resize(n);
+  p_.resize(n);
+  q_.resize(n);
+  for (size_t i = 0; i < n; ++i)
   {
-    poses_[i].t -= t0;
-    if (i > 0 && !(poses_[i].t > poses_[i - 1].t))
+    t_[i] = poses[i].t - t0;
+    if (i > 0 && !(t_[i] > t_[i - 1]))
       throw TrajectoryError("sampled trajectory times must strictly increase (pose " + std::to_string(i) + ")");
-    poses_[i].T_world_cam.q.normalize();
-    if (i > 0 && poses_[i].T_world_cam.q.dot(poses_[i - 1].T_world_cam.q) < 0)
-      poses_[i].T_world_cam.q.coeffs() *= -1;  // same hemisphere for SQUAD
+    p_[i] = poses[i].T_world_camera.p_world_camera();
+    q_[i] = poses[i].T_world_camera.q_world_camera();
+    if (i > 0 && q_[i].dot(q_[i - 1]) < 0)
+      q_[i].coeffs() *= -1;  // same hemisphere for SQUAD
   }
-  const size_t n = poses_.size();
+  first_ = poses.front().T_world_camera;
+  last_ = poses.back().T_world_camera;
   squad_s_.resize(n);
   for (size_t i = 0; i < n; ++i)
   {
-    const Eigen::Quaterniond& qi = poses_[i].T_world_cam.q;
+    const Eigen::Quaterniond& qi = q_[i];
     if (i == 0 || i + 1 == n)
     {
       squad_s_[i] = qi;
       continue;
     }
     const Eigen::Quaterniond qinv = qi.conjugate();
-    const Eigen::Vector3d l =
-        quatLog(qinv * poses_[i + 1].T_world_cam.q) + quatLog(qinv * poses_[i - 1].T_world_cam.q);
+    const Eigen::Vector3d l = quatLog(qinv * q_[i + 1]) + quatLog(qinv * q_[i - 1]);
     squad_s_[i] = (qi * quatExp(-0.25 * l)).normalized();
   }
 }
 
 Pose SampledTrajectory::poseAt(double t) const
 {
-  if (t <= poses_.front().t)
-    return poses_.front().T_world_cam;
-  if (t >= poses_.back().t)
-    return poses_.back().T_world_cam;
-  const auto it = std::upper_bound(poses_.begin(), poses_.end(), t,
-                                   [](double tt, const StampedPose& sp) { return tt < sp.t; });
-  const size_t i1 = static_cast<size_t>(it - poses_.begin());
+  if (t <= t_.front())
+    return first_;
+  if (t >= t_.back())
+    return last_;
+  const auto it = std::upper_bound(t_.begin(), t_.end(), t);
+  const size_t i1 = static_cast<size_t>(it - t_.begin());
   const size_t i0 = i1 - 1;
-  const size_t n = poses_.size();
-  const double t0 = poses_[i0].t, t1 = poses_[i1].t, h = t1 - t0;
+  const size_t n = t_.size();
+  const double t0 = t_[i0], t1 = t_[i1], h = t1 - t0;
   const double s = (t - t0) / h;
-  const Eigen::Vector3d& p0 = poses_[i0].T_world_cam.p;
-  const Eigen::Vector3d& p1 = poses_[i1].T_world_cam.p;
+  const Eigen::Vector3d& p0 = p_[i0];
+  const Eigen::Vector3d& p1 = p_[i1];
   auto tangent = [&](size_t i) -> Eigen::Vector3d {
     const size_t a = i == 0 ? 0 : i - 1;
     const size_t b = i + 1 == n ? i : i + 1;
-    return (poses_[b].T_world_cam.p - poses_[a].T_world_cam.p) / (poses_[b].t - poses_[a].t);
+    return (p_[b] - p_[a]) / (t_[b] - t_[a]);
   };
   const Eigen::Vector3d m0 = tangent(i0) * h, m1 = tangent(i1) * h;
   const double s2 = s * s, s3 = s2 * s;
-  Pose pose;
-  pose.p = (2 * s3 - 3 * s2 + 1) * p0 + (s3 - 2 * s2 + s) * m0 + (-2 * s3 + 3 * s2) * p1 + (s3 - s2) * m1;
-  const Eigen::Quaterniond a = poses_[i0].T_world_cam.q.slerp(s, poses_[i1].T_world_cam.q);
+  const Eigen::Vector3d p =
+      (2 * s3 - 3 * s2 + 1) * p0 + (s3 - 2 * s2 + s) * m0 + (-2 * s3 + 3 * s2) * p1 + (s3 - s2) * m1;
+  const Eigen::Quaterniond a = q_[i0].slerp(s, q_[i1]);
   const Eigen::Quaterniond b = squad_s_[i0].slerp(s, squad_s_[i1]);
-  pose.q = a.slerp(2 * s * (1 - s), b).normalized();
-  return pose;
+  return Pose::fromWorldCamera(a.slerp(2 * s * (1 - s), b).normalized(), p);
 }
 
-PoseTrajectory sampleTrajectory(const Trajectory& trajectory, double duration, double rate_hz)
+dvs_calibration::Trajectory sampleTrajectory(const Trajectory& trajectory, double duration, double rate_hz)
 {
   if (!(rate_hz > 0))
     throw TrajectoryError("ground-truth rate must be > 0");
-  PoseTrajectory out;
+  dvs_calibration::Trajectory out;
   const long n = static_cast<long>(std::floor(duration * rate_hz + 1e-9));
   out.reserve(static_cast<size_t>(n + 1));
   for (long i = 0; i <= n; ++i)

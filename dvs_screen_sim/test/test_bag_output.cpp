@@ -32,7 +32,7 @@ TEST(BagOutput, BagAndTextOutputsAgree)
       ASSERT_TRUE(p != nullptr);
       const auto& gt = out.groundtruth[poses];
       EXPECT_NEAR(p->header.stamp.toSec(), gt.t, 1e-9);
-      EXPECT_NEAR(p->pose.position.z, gt.T_world_cam.p.z(), 1e-12);
+      EXPECT_NEAR(p->pose.position.z, gt.T_world_camera.p_world_camera().z(), 1e-12);
       ++poses;
     }
     tf += m.getTopic() == "/tf";

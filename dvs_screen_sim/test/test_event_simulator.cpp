@@ -64,9 +64,7 @@ void expectSortedInSensor(const EventVector& ev, int w, int h)
 
 Pose facingWall(double x, double d)
 {
-  Pose p;
-  p.p = Eigen::Vector3d(x, 0, d);
-  p.q = lookingAtWallOrientation();
+  const Pose p = Pose::fromWorldCamera(lookingAtWallOrientation(), Eigen::Vector3d(x, 0, d));
   return p;
 }
 
@@ -156,7 +154,7 @@ void expectEventsOnProjectedEdges(const SimConfig& config)
       {
         const Eigen::Vector3d pw = s.a + (s.b - s.a) * (j / 400.0);
         Eigen::Vector2d px;
-        if (!cam.project(pose.worldToCam(pw), px))
+        if (!cam.project(pose.toCamera(pw), px))
         {
           have_prev = false;
           continue;
@@ -177,8 +175,8 @@ void expectEventsOnProjectedEdges(const SimConfig& config)
     auto inside = [&](double tt) {
       const Pose p = traj->poseAt(tt);
       const Eigen::Vector2d xn = cam.pixelToUndistortedNormalized(Eigen::Vector2d(e.x, e.y));
-      const Eigen::Vector3d d = p.q * Eigen::Vector3d(xn.x(), xn.y(), 1.0);
-      const Eigen::Vector3d w = p.p + (-p.p.z() / d.z()) * d;
+      const Eigen::Vector3d d = p.q_world_camera() * Eigen::Vector3d(xn.x(), xn.y(), 1.0);
+      const Eigen::Vector3d w = p.p_world_camera() + (-p.p_world_camera().z() / d.z()) * d;
       return std::abs(w.x()) < 0.45 && std::abs(w.y()) < 0.45;
     };
     const bool before = inside(t - 0.002), after = inside(t + 0.002);

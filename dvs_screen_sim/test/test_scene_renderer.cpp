@@ -24,9 +24,7 @@ dvs_calibration::CameraModel pinhole(int w = 32, int h = 32, double f = 50)
 
 Pose facingWall(double x, double y, double d)
 {
-  Pose p;
-  p.p = Eigen::Vector3d(x, y, d);
-  p.q = lookingAtWallOrientation();
+  const Pose p = Pose::fromWorldCamera(lookingAtWallOrientation(), Eigen::Vector3d(x, y, d));
   return p;
 }
 
@@ -66,7 +64,7 @@ TEST(SceneRenderer, TotalDarknessEqualsProjectedArea)
   const auto cam = pinhole(64, 64, 60);
   const Scene scene = rectangleScene(-0.2, -0.15, 0.25, 0.2);
   SceneRenderer r(cam, scene);
-  const Pose pose{Eigen::Vector3d(0.05, -0.02, 1.2), orientationFromYawPitchRollDeg({8, -5, 33})};
+  const Pose pose = Pose::fromWorldCamera(orientationFromYawPitchRollDeg({8, -5, 33}), Eigen::Vector3d(0.05, -0.02, 1.2));
   r.setState(pose, 0);
   std::vector<double> img;
   r.renderImage(img);
@@ -79,8 +77,8 @@ TEST(SceneRenderer, TotalDarknessEqualsProjectedArea)
   for (size_t i = 0; i < 4; ++i)
   {
     Eigen::Vector2d a, b;
-    ASSERT_TRUE(cam.projectIdeal(pose.worldToCam({v[i].x(), v[i].y(), 0}), a));
-    ASSERT_TRUE(cam.projectIdeal(pose.worldToCam({v[(i + 1) % 4].x(), v[(i + 1) % 4].y(), 0}), b));
+    ASSERT_TRUE(cam.projectIdeal(pose.toCamera({v[i].x(), v[i].y(), 0}), a));
+    ASSERT_TRUE(cam.projectIdeal(pose.toCamera({v[(i + 1) % 4].x(), v[(i + 1) % 4].y(), 0}), b));
     ASSERT_TRUE(cam.inImage(a, 1) && cam.inImage(b, 1));
     area += a.x() * b.y() - a.y() * b.x();
   }
@@ -104,8 +102,7 @@ TEST(SceneRenderer, NestedPolygonsAndBehindCamera)
   EXPECT_NEAR(r.pixelIntensity(15, 15 - 10), 0.1, 1e-12);  // ring
   EXPECT_NEAR(r.pixelIntensity(0, 0), 0.5, 1e-12);  // wall (corner at 0.31 m)
   // Camera turned away from the wall: its polygons are behind; the wall's level everywhere.
-  Pose away = facingWall(0, 0, 1);
-  away.q = Eigen::Quaterniond::Identity();  // looking along +z, away from the wall
+  const Pose away = Pose::fromWorldCamera(Eigen::Quaterniond::Identity(), facingWall(0, 0, 1).p_world_camera());  // looking along +z, away from the wall
   r.setState(away, 0);
   EXPECT_NEAR(r.pixelIntensity(15, 15), 0.5, 1e-12);
 }
@@ -263,8 +260,8 @@ TEST(SceneRenderer, MatchesBruteForceSupersamplingWithDistortion)
           {
             const Eigen::Vector2d xn =
                 cam.pixelToUndistortedNormalized(Eigen::Vector2d(x - 0.5 + (i + 0.5) / n, y - 0.5 + (j + 0.5) / n));
-            const Eigen::Vector3d d = pose.q * Eigen::Vector3d(xn.x(), xn.y(), 1.0);
-            const Eigen::Vector3d w = pose.p + (-pose.p.z() / d.z()) * d;
+            const Eigen::Vector3d d = pose.q_world_camera() * Eigen::Vector3d(xn.x(), xn.y(), 1.0);
+            const Eigen::Vector3d w = pose.p_world_camera() + (-pose.p_world_camera().z() / d.z()) * d;
             inside += std::abs(w.x()) < 0.45 && std::abs(w.y()) < 0.45;
           }
         const double reference = 0.9 - 0.8 * inside / double(n * n);

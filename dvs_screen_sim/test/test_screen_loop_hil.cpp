@@ -59,7 +59,7 @@ TEST(GlScreenRenderer, DrawsThePipelineAndReadsItBack)
   ASSERT_EQ(gl.width(), 320);
   const auto cam = dvs_calibration::CameraModel::dvs128();
   ProjectionPipeline pipe(cam);
-  const Pose T{{0.0, 0.0, 2.0}, lookingAtWallOrientation()};
+  const Pose T = Pose::fromWorldCamera(lookingAtWallOrientation(), Eigen::Vector3d(0.0, 0.0, 2.0));
   Scene scene = defaultSquareScene(0.6, 1.0, 0.0);  // white 0.6 m square on black
   scene.finalize();
   std::vector<float> grey;
@@ -144,7 +144,7 @@ HilRun runHil(const Pose& T_wall_dvs, uint64_t seed)
     return out;
 
   // Phase 2: the blinking line grid, corrected then uncorrected, 6 refreshes each.
-  const Pose T_world_virtual{{0.03, -0.02, 1.0}, orientationFromYawPitchRollDeg({4, -3, 8})};
+  const Pose T_world_virtual = Pose::fromWorldCamera(orientationFromYawPitchRollDeg({4, -3, 8}), Eigen::Vector3d(0.03, -0.02, 1.0));
   const auto lines = lineGrid(7, 7, 0.12);
   const double width = 0.003;
   const auto expected = expectedImageLines(ec.camera, T_world_virtual, lines);
@@ -229,7 +229,7 @@ TEST(ScreenInTheLoop, PlaybackEventsAreInTrajectoryTimeOnTheProjectedEdges)
   lp.duration = 0.3;
   LinearTrajectory trajectory(lp);
   const double duration = 0.3;
-  PoseTrajectory shown;
+  dvs_calibration::Trajectory shown;
   const dvs_driver::EventVector events = loop.playTrajectory(scene, trajectory, duration, TimeScale{4.0}, &shown);
   ASSERT_GT(events.size(), 2000u);
   // One displayed pose per refresh, each the trajectory's pose at the centre of its display
@@ -242,7 +242,7 @@ TEST(ScreenInTheLoop, PlaybackEventsAreInTrajectoryTimeOnTheProjectedEdges)
   {
     const double centre = (static_cast<double>(i) + 0.5) * hold;
     ASSERT_NEAR(shown[i].t, centre + seen_delay, 1e-9) << "frame " << i;
-    EXPECT_LT((shown[i].T_world_cam.p - trajectory.poseAt(centre).p).norm(), 1e-12);
+    EXPECT_LT((shown[i].T_world_camera.p_world_camera() - trajectory.poseAt(centre).p_world_camera()).norm(), 1e-12);
   }
   size_t near = 0;
   for (const auto& e : events)
@@ -257,8 +257,8 @@ TEST(ScreenInTheLoop, PlaybackEventsAreInTrajectoryTimeOnTheProjectedEdges)
     for (size_t i = 0; i < v.size(); ++i)
     {
       Eigen::Vector2d a, b;
-      ec.camera.projectIdeal(T.worldToCam({v[i].x(), v[i].y(), 0.0}), a);
-      ec.camera.projectIdeal(T.worldToCam({v[(i + 1) % v.size()].x(), v[(i + 1) % v.size()].y(), 0.0}), b);
+      ec.camera.projectIdeal(T.toCamera({v[i].x(), v[i].y(), 0.0}), a);
+      ec.camera.projectIdeal(T.toCamera({v[(i + 1) % v.size()].x(), v[(i + 1) % v.size()].y(), 0.0}), b);
       const Eigen::Vector2d d = b - a;
       const double u = std::clamp((p - a).dot(d) / d.squaredNorm(), 0.0, 1.0);
       best = std::min(best, (p - (a + u * d)).norm());

@@ -21,7 +21,7 @@ namespace
 {
 Pose virtualPose()
 {
-  return Pose{{0.1, -0.05, 1.2}, orientationFromYawPitchRollDeg({8, -5, 12})};
+  return Pose::fromWorldCamera(orientationFromYawPitchRollDeg({8, -5, 12}), Eigen::Vector3d(0.1, -0.05, 1.2));
 }
 
 /// A "physical" homography ideal DVS px -> viewport of a DVS tilted in front of the screen: the
@@ -29,10 +29,10 @@ Pose virtualPose()
 Eigen::Matrix3d physicalDvsToViewport(const dvs_calibration::CameraModel& cam)
 {
   // Screen plane z=0 (metres), DVS at 0.3 m, yaw 15 deg, pitch -10 deg, shifted.
-  const Pose T_screen_dvs{{0.02, -0.015, 0.3}, orientationFromYawPitchRollDeg({15, -10, 3})};
+  const Pose T_screen_dvs = Pose::fromWorldCamera(orientationFromYawPitchRollDeg({15, -10, 3}), Eigen::Vector3d(0.02, -0.015, 0.3));
   // Screen point (X, Y, 0) -> DVS ideal pixel: K [r1 r2 t].
-  const Eigen::Matrix3d R = T_screen_dvs.R_world_cam().transpose();
-  const Eigen::Vector3d t = -R * T_screen_dvs.p;
+  const Eigen::Matrix3d R = T_screen_dvs.R_world_camera().transpose();
+  const Eigen::Vector3d t = -R * T_screen_dvs.p_world_camera();
   Eigen::Matrix3d G;
   G.col(0) = R.col(0);
   G.col(1) = R.col(1);
@@ -51,10 +51,10 @@ TEST(ProjectionPipeline, ViewMatrixMapsWorldToCamera)
   const Eigen::Matrix4d M = viewMatrix(T);
   const Eigen::Vector3d pw(0.3, -0.2, 0.05);
   const Eigen::Vector4d pc = M * pw.homogeneous();
-  EXPECT_NEAR((pc.head<3>() - T.worldToCam(pw)).norm(), 0.0, 1e-12);
+  EXPECT_NEAR((pc.head<3>() - T.toCamera(pw)).norm(), 0.0, 1e-12);
   EXPECT_DOUBLE_EQ(pc.w(), 1.0);
   // The camera centre maps to the origin.
-  EXPECT_NEAR((M * T.p.homogeneous()).head<3>().norm(), 0.0, 1e-12);
+  EXPECT_NEAR((M * T.p_world_camera().homogeneous()).head<3>().norm(), 0.0, 1e-12);
 }
 
 TEST(ProjectionPipeline, FocalLengthsMatchTheDvs)
@@ -77,7 +77,7 @@ TEST(ProjectionPipeline, FocalLengthsMatchTheDvs)
   const Pose T = virtualPose();
   const Eigen::Vector3d ray = Eigen::Vector3d((0 - 63.5) / 115.0, (0 - 63.5) / 115.0, 1.0) * 1.7;
   Eigen::Vector2d vp;
-  ASSERT_TRUE(pipe.viewport(T, T.camToWorld(ray), vp, false));
+  ASSERT_TRUE(pipe.viewport(T, T.toWorld(ray), vp, false));
   EXPECT_NEAR(vp.x(), -1.0, 1e-12);
   EXPECT_NEAR(vp.y(), 1.0, 1e-12);
   EXPECT_THROW(matchedFocalLengths(cam, 0.0), std::invalid_argument);
@@ -114,7 +114,7 @@ TEST(ProjectionPipeline, ExpandedHomographyActsOnClipCoordinatesLikeHOnTheViewpo
   const Eigen::Vector3d pw(0.15, 0.1, 0.0);
   Eigen::Vector2d vp, ideal;
   ASSERT_TRUE(pipe.viewport(T, pw, vp, false));
-  ASSERT_TRUE(cam.projectIdeal(T.worldToCam(pw), ideal));
+  ASSERT_TRUE(cam.projectIdeal(T.toCamera(pw), ideal));
   EXPECT_NEAR((applyHomography(pipe.viewportToIdealDvs(), vp) - ideal).norm(), 0.0, 1e-10);
 }
 
@@ -190,7 +190,7 @@ TEST(Alignment, CorrectedPipelineMakesTheDvsSeeTheVirtualView)
       Eigen::Vector2d vp_corr, seen, ideal;
       ASSERT_TRUE(pipe.viewport(T, pw, vp_corr, true));
       seen = applyHomography(H_true.inverse(), vp_corr);
-      ASSERT_TRUE(cam.projectIdeal(T.worldToCam(pw), ideal));
+      ASSERT_TRUE(cam.projectIdeal(T.toCamera(pw), ideal));
       EXPECT_NEAR((seen - ideal).norm(), 0.0, 1e-7) << x << " " << y;
       // Without the correction the DVS sees it elsewhere (the test can fail).
       Eigen::Vector2d vp_raw;
@@ -285,7 +285,7 @@ TEST(LineGridCheck, DistancesOfEventsToExpectedLines)
   EXPECT_NEAR(st.mean_line_offset, 0.0, 1e-5);
 
   // Expected lines: a grid seen straight from 1 m lands at f * X / Z + c.
-  const Pose T{{0, 0, 1.0}, lookingAtWallOrientation()};
+  const Pose T = Pose::fromWorldCamera(lookingAtWallOrientation(), Eigen::Vector3d(0, 0, 1.0));
   const auto img = expectedImageLines(cam, T, lineGrid(3, 2, 0.1));
   ASSERT_EQ(img.size(), 5u);
   EXPECT_NEAR(img[0].a.x(), 63.5 - 10.0, 1e-9);  // x = -0.1 m
@@ -373,7 +373,7 @@ TEST(VirtualMonitorSimulation, StillCameraReevaluatesPixelsOnlyAtRefreshes)
   };
   scene.images.push_back(im);
   scene.finalize();
-  const StaticTrajectory still(Pose{{0, 0, 0.5}, lookingAtWallOrientation()});
+  const StaticTrajectory still(Pose::fromWorldCamera(lookingAtWallOrientation(), Eigen::Vector3d(0, 0, 0.5)));
   SimulationStats stats;
   const auto events = simulateEvents(cam, scene, still, 0.0, 0.1, EventModelConfig(), SamplingConfig(), 0, &stats);
   ASSERT_GT(events.size(), 1000u);

@@ -1,7 +1,7 @@
 #include <dvs_driver/event_text_io.h>
 #include <dvs_screen_sim/dataset.h>
 #include <dvs_screen_sim/sim_config.h>
-#include <dvs_screen_sim/trajectory_io.h>
+#include <dvs_calibration/trajectory_file.h>
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -68,7 +68,7 @@ TEST(SimConfig, OverridesPresetsAndErrorsNameTheParameter)
   EXPECT_DOUBLE_EQ(c.events.noise.threshold_sigma, noisePreset("noisy").threshold_sigma);
   EXPECT_EQ(c.seed, 11u);
   EXPECT_DOUBLE_EQ(c.duration, 0.5);
-  EXPECT_NEAR(makeTrajectory(c)->poseAt(0.1).p.norm(), 1.7, 1e-9);
+  EXPECT_NEAR(makeTrajectory(c)->poseAt(0.1).p_world_camera().norm(), 1.7, 1e-9);
   // The resolved tree holds the preset's values.
   EXPECT_DOUBLE_EQ(c.resolved["events"]["noise"]["latency"].as<double>(), noisePreset("noisy").latency);
   EXPECT_EQ(c.resolved["camera"]["height"].as<int>(), 260);
@@ -131,7 +131,7 @@ TEST(Dataset, FilesAreCompleteConsistentAndReproducible)
   }
   const auto events = dvs_driver::readEventsText(d1 + "/events.txt");
   ASSERT_GT(events.size(), 1000u);
-  const PoseTrajectory gt = readTumTrajectory(d1 + "/groundtruth.txt");
+  const dvs_calibration::Trajectory gt = dvs_calibration::readTumTrajectory(d1 + "/groundtruth.txt");
   ASSERT_EQ(gt.size(), 201u);  // 1 kHz over 0.2 s
   EXPECT_DOUBLE_EQ(gt.front().t, 0.0);
   EXPECT_GE(events.front().t_ns, 0);
@@ -186,6 +186,6 @@ TEST(Dataset, FileScenarioPlaysBackAGroundTruth)
   const auto traj = makeTrajectory(f);
   const auto ref = makeTrajectory(c);
   for (double t = 0; t < 0.3; t += 0.0123)
-    EXPECT_LT((traj->poseAt(t).p - ref->poseAt(t).p).norm(), 1e-6);
+    EXPECT_LT((traj->poseAt(t).p_world_camera() - ref->poseAt(t).p_world_camera()).norm(), 1e-6);
   std::filesystem::remove_all(d);
 }

@@ -2,7 +2,7 @@
 // A simulation as a rosbag (library dvs_screen_sim_ros), the topics of the live node:
 //   /dvs/events               dvs_msgs/EventArray, packets of config.packet_period (1 ms)
 //   /dvs/camera_info          sensor_msgs/CameraInfo, at t = 0 and every 0.1 s
-//   /dvs/ground_truth/pose    geometry_msgs/PoseStamped (T_world_cam), at groundtruth_rate
+//   /dvs/ground_truth/pose    geometry_msgs/PoseStamped (T_world_camera), at groundtruth_rate
 //   /tf                       tf2_msgs/TFMessage world -> dvs_gt, at groundtruth_rate
 //   /dvs/ground_truth/map     visualization_msgs/MarkerArray, at t = 0 and every 1 s
 // Bag record times = header stamps (a stamp of 0 is recorded at 1 ns: rosbag's minimum).
@@ -28,7 +28,7 @@ public:
   ~SimulationBagWriter();
   void addEvents(const dvs_driver::EventVector& chunk);
   /// Writes camera_info, ground truth, TF and the map, and closes the bag.
-  void finish(const PoseTrajectory& groundtruth);
+  void finish(const dvs_calibration::Trajectory& groundtruth);
 
 private:
   SimConfig config_;

@@ -1,7 +1,7 @@
 #pragma once
 // Running a whole simulation offline and writing its dataset folder:
 //   events.txt       t x y p (Event Camera Dataset layout, sorted)
-//   groundtruth.txt  t px py pz qx qy qz qw (T_world_cam at groundtruth_rate, same time base)
+//   groundtruth.txt  t px py pz qx qy qz qw (T_world_camera at groundtruth_rate, same time base)
 //   calib.txt        fx fy cx cy k1 k2 p1 p2 k3
 //   camera_info.yaml the same camera as ROS camera_info YAML
 //   map.yaml         the tracker's line map (every edge of every in-map polygon, with `up`)
@@ -9,7 +9,7 @@
 // Times: simulation time t (starting at 0) + time_offset (default 0), in seconds.
 #include <dvs_driver/event.h>
 #include <dvs_screen_sim/event_simulator.h>
-#include <dvs_screen_sim/pose.h>
+#include <dvs_screen_sim/wall_pose.h>
 #include <dvs_screen_sim/sim_config.h>
 
 #include <fstream>
@@ -22,7 +22,7 @@ struct SimulationOutput
 {
   dvs_driver::EventVector events;  ///< all events (empty when they were streamed to a sink)
   uint64_t event_count = 0;
-  PoseTrajectory groundtruth;      ///< times include the offset
+  dvs_calibration::Trajectory groundtruth;      ///< times include the offset
   SimulationStats stats;
   double cpu_seconds = 0;          ///< process CPU time spent in the event simulation
 };
@@ -40,7 +40,7 @@ SimulationOutput runSimulation(const SimConfig& config, const EventChunkSink& si
 /// everything writeDatasetWithoutEvents writes. Throws std::runtime_error naming the file.
 void writeDataset(const std::string& dir, const SimConfig& config, const SimulationOutput& output);
 /// groundtruth.txt, calib.txt, camera_info.yaml, map.yaml, config.yaml (creates the folder).
-void writeDatasetWithoutEvents(const std::string& dir, const SimConfig& config, const PoseTrajectory& groundtruth);
+void writeDatasetWithoutEvents(const std::string& dir, const SimConfig& config, const dvs_calibration::Trajectory& groundtruth);
 
 /// events.txt written chunk by chunk (for streaming sinks).
 class EventsTextStream

@@ -145,7 +145,7 @@ private:
 
 /// Convenience: simulate `trajectory` from t0 to t1 and return every event (sorted). E.g. a
 /// flickering calibration screen from one pose: simulateEvents(camera, screen,
-/// StaticTrajectory(T_world_cam), 0.0, 0.05, EventModelConfig(), SamplingConfig(), seed).
+/// StaticTrajectory(T_world_camera), 0.0, 0.05, EventModelConfig(), SamplingConfig(), seed).
 dvs_driver::EventVector simulateEvents(const dvs_calibration::CameraModel& camera, const Scene& scene,
                                        const Trajectory& trajectory, double t0, double t1,
                                        const EventModelConfig& model = EventModelConfig(),

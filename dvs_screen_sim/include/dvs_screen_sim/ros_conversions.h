@@ -2,7 +2,7 @@
 // ROS messages for the simulator's outputs (library dvs_screen_sim_ros).
 #include <dvs_calibration/camera_info_conversions.h>
 #include <dvs_calibration/camera_model.h>
-#include <dvs_screen_sim/pose.h>
+#include <dvs_screen_sim/wall_pose.h>
 #include <dvs_screen_sim/scene.h>
 #include <geometry_msgs/PoseStamped.h>
 #include <geometry_msgs/TransformStamped.h>
@@ -17,9 +17,9 @@ namespace dvs_screen_sim
 /// Seconds -> ros::Time, exact to the nanosecond (rounded); negative times clamp to zero.
 ros::Time secondsToRosTime(double t);
 
-/// Ground truth T_world_cam as PoseStamped in `world_frame`.
+/// Ground truth T_world_camera as PoseStamped in `world_frame`.
 geometry_msgs::PoseStamped toPoseStamped(const StampedPose& pose, const std::string& world_frame = "world");
-/// Ground truth T_world_cam as a transform world_frame -> child_frame.
+/// Ground truth T_world_camera as a transform world_frame -> child_frame.
 geometry_msgs::TransformStamped toTransform(const StampedPose& pose, const std::string& world_frame = "world",
                                             const std::string& child_frame = "dvs_gt");
 /// The scene as markers: one LINE_LIST with every map edge (namespace "map_edges") and one

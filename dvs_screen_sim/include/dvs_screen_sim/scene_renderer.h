@@ -17,7 +17,7 @@
 //
 // Not thread-safe (scratch buffers); one renderer per thread.
 #include <dvs_calibration/camera_model.h>
-#include <dvs_screen_sim/pose.h>
+#include <dvs_screen_sim/wall_pose.h>
 #include <dvs_screen_sim/scene.h>
 
 #include <cstdint>
@@ -33,7 +33,7 @@ public:
   SceneRenderer(const dvs_calibration::CameraModel& camera, const Scene& scene);
 
   /// Set the camera pose and the time (for modulated intensities); projects the scene.
-  void setState(const Pose& T_world_cam, double t);
+  void setState(const Pose& T_world_camera, double t);
 
   /// Area-correct linear intensity of sensor pixel (x, y) for the current state.
   double pixelIntensity(int x, int y) const;
@@ -46,9 +46,9 @@ public:
   void appendEdgePixels(std::vector<int32_t>& pixels, std::vector<uint32_t>& marks, uint32_t mark) const;
 
   /// The largest image displacement [sensor px] that the edge points visible now (spaced <= 3 px
-  /// along every edge inside the image) undergo when the camera moves to T_world_cam_other.
+  /// along every edge inside the image) undergo when the camera moves to T_world_camera_other.
   /// Points that leave the camera's front count as +inf... capped at 1e6.
-  double maxImageMotion(const Pose& T_world_cam_other) const;
+  double maxImageMotion(const Pose& T_world_camera_other) const;
 
   /// True when the scene has images: their content moves everywhere, not only at edges, so
   /// every pixel must be re-evaluated at every sample.
@@ -104,7 +104,8 @@ private:
   std::vector<Eigen::Vector2d> corners_;  ///< (W+1) x (H+1) undistorted normalized pixel corners
   Eigen::Vector2d view_lo_, view_hi_;     ///< normalized bounds of the sensor (+ margin)
   double px_per_normalized_;              ///< ~fx, for subdivision lengths
-  Pose T_world_cam_;
+  Pose T_world_camera_;
+  Eigen::Vector3d p_world_camera_ = Eigen::Vector3d::Zero();  ///< the camera centre of T_world_camera_
   bool has_state_ = false;
   bool images_changed_ = true;
   double content_transition_ = 0;
@@ -114,7 +115,7 @@ private:
   std::vector<bool> polygon_convex_;
   std::vector<ProjectedImage> projected_images_;
   std::vector<Eigen::Vector2d> corner_wall_;  ///< wall points of the pixel corners (only with images)
-  Eigen::Matrix3d R_world_cam_ = Eigen::Matrix3d::Identity();
+  Eigen::Matrix3d R_world_camera_ = Eigen::Matrix3d::Identity();
   std::vector<Eigen::Vector3d> visible_edge_points_world_;
   std::vector<Eigen::Vector2d> visible_edge_points_px_;
   mutable std::vector<Eigen::Vector2d> scratch_a_, scratch_b_;

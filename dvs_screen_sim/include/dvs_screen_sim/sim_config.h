@@ -4,6 +4,7 @@
 // YAML tree that is written next to the outputs (config.yaml). Every key is documented in the
 // package README; unknown keys are errors (a typo must not be silently ignored).
 #include <dvs_calibration/camera_model.h>
+#include <dvs_driver/param_table.h>
 #include <dvs_screen_sim/event_simulator.h>
 #include <dvs_screen_sim/scene.h>
 #include <dvs_screen_sim/trajectory.h>
@@ -39,6 +40,21 @@ struct SimConfig
   SamplingConfig sampling;
   YAML::Node resolved;  ///< the full resolved configuration tree (what config.yaml holds)
 };
+
+/// The run parameters at the configuration's top level (YAML keys of these names). The live
+/// simulator node takes `duration` and `packet_period` as ROS parameters of the same names: the
+/// same table entries (bounds, units, documentation) serve both paths.
+struct SimRunParams
+{
+  double duration = 0.0;            ///< [s], 0: the scenario's natural length
+  double time_offset = 0.0;         ///< [s] added to every output time stamp
+  double groundtruth_rate = 1000.0; ///< [Hz]
+  double packet_period = 1e-3;      ///< [s]
+};
+/// Adds `duration` and `packet_period` (the names the ROS node shares) to `table`.
+void addSharedRunParams(dvs_driver::ParamTable& table, SimRunParams& p);
+/// The top level's four run parameters (what resolveSimConfig validates them with).
+dvs_driver::ParamTable simRunParamTable(SimRunParams& p);
 
 /// The scenario's default configuration tree (every key, with comments lost).
 YAML::Node defaultConfigTree(const std::string& scenario);

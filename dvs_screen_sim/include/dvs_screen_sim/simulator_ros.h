@@ -3,12 +3,12 @@
 // Publishes (relative to the node's namespace, remappable):
 //   dvs/events              dvs_msgs/EventArray, one packet per packet_period of simulated time
 //   dvs/camera_info         sensor_msgs/CameraInfo (latched, re-sent every 0.1 s simulated)
-//   dvs/ground_truth/pose   geometry_msgs/PoseStamped T_world_cam at groundtruth_rate
+//   dvs/ground_truth/pose   geometry_msgs/PoseStamped T_world_camera at groundtruth_rate
 //   dvs/ground_truth/map    visualization_msgs/MarkerArray (latched)
 //   /tf                     world -> dvs_gt at groundtruth_rate
-// Private parameters: see the package README (scenario, config_file, seed, duration,
-// real_time_factor, loop, packet_period, world_frame, camera_frame, ground_truth_frame,
-// wall_clock_stamps, start_delay, wait_for_subscribers). The simulation runs in its own thread; the constructor returns at once.
+// Private parameters: one table (simulator_params.h, printed in the package README; unknown
+// names are warned about, bad values refused naming the parameter). The simulation runs in its
+// own thread; the constructor returns at once.
 #include <dvs_screen_sim/event_simulator.h>
 #include <dvs_screen_sim/sim_config.h>
 #include <ros/ros.h>

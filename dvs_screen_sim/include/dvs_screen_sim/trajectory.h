@@ -1,10 +1,12 @@
 #pragma once
-// Camera trajectories: continuous functions t [s] -> T_world_cam.
+// Camera trajectories: continuous functions t [s] -> T_world_camera (the suite's Pose). Their
+// samples are the suite's stamped trajectory (dvs_calibration::Trajectory, a vector of
+// StampedPose); `Trajectory` in this namespace is the continuous function.
 //
-// World frame of the suite's simulated scenes: the wall is the plane z = 0, world x points right
-// and world y up on the wall, z out of the wall towards the camera. A camera "looking at the
-// wall" sits at z > 0 with R_world_cam = diag(1, -1, -1) (image right = +x, image up = +y).
-#include <dvs_screen_sim/pose.h>
+// World frame of the suite's simulated scenes (wall_pose.h): the wall is the plane z = 0, world
+// x points right and world y up on the wall, z out of the wall towards the camera. A camera
+// "looking at the wall" sits at z > 0 with R_world_camera = diag(1, -1, -1).
+#include <dvs_screen_sim/wall_pose.h>
 
 #include <memory>
 #include <random>
@@ -34,7 +36,7 @@ public:
 class StaticTrajectory : public Trajectory
 {
 public:
-  explicit StaticTrajectory(const Pose& T_world_cam) : pose_(T_world_cam) {}
+  explicit StaticTrajectory(const Pose& T_world_camera) : pose_(T_world_camera) {}
   Pose poseAt(double) const override { return pose_; }
 
 private:
@@ -42,7 +44,7 @@ private:
 };
 
 /// Camera orientation from yaw/pitch/roll in degrees, relative to looking at the wall:
-/// R_world_cam = R_look * Ry(yaw) * Rx(pitch) * Rz(roll), all about CAMERA axes (yaw about the
+/// R_world_camera = R_look * Ry(yaw) * Rx(pitch) * Rz(roll), all about CAMERA axes (yaw about the
 /// image's vertical axis y, pitch about x, roll about the optical axis z).
 Eigen::Quaterniond orientationFromYawPitchRollDeg(const Eigen::Vector3d& ypr_deg);
 
@@ -156,15 +158,19 @@ class SampledTrajectory : public Trajectory
 {
 public:
   /// Throws TrajectoryError for fewer than 2 poses or non-increasing times.
-  explicit SampledTrajectory(PoseTrajectory poses);
+  explicit SampledTrajectory(dvs_calibration::Trajectory poses);
   Pose poseAt(double t) const override;
-  double naturalDuration() const override { return poses_.back().t; }
+  double naturalDuration() const override { return t_.back(); }
 
 private:
-  PoseTrajectory poses_;
-  std::vector<Eigen::Quaterniond, Eigen::aligned_allocator<Eigen::Quaterniond>> squad_s_;
+  // The samples as times (shifted to start at 0), positions and orientations (q_world_camera,
+  // each in the hemisphere of its predecessor), and the SQUAD control points.
+  std::vector<double> t_;
+  std::vector<Eigen::Vector3d, Eigen::aligned_allocator<Eigen::Vector3d>> p_;
+  std::vector<Eigen::Quaterniond, Eigen::aligned_allocator<Eigen::Quaterniond>> q_, squad_s_;
+  Pose first_, last_;
 };
 
 /// Sample a trajectory at `rate_hz` from 0 to duration (inclusive when it falls on the grid).
-PoseTrajectory sampleTrajectory(const Trajectory& trajectory, double duration, double rate_hz);
+dvs_calibration::Trajectory sampleTrajectory(const Trajectory& trajectory, double duration, double rate_hz);
 }  // namespace dvs_screen_sim

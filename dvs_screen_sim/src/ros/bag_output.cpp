@@ -38,7 +38,7 @@ void SimulationBagWriter::addEvents(const dvs_driver::EventVector& chunk)
                              static_cast<uint32_t>(config_.camera.height()), period_ns, "dvs");
 }
 
-void SimulationBagWriter::finish(const PoseTrajectory& groundtruth)
+void SimulationBagWriter::finish(const dvs_calibration::Trajectory& groundtruth)
 {
   const double t0 = static_cast<double>(config_.time_offset_ns) * 1e-9;
   const double t_end = t0 + config_.duration;

@@ -18,8 +18,8 @@ geometry_msgs::PoseStamped toPoseStamped(const StampedPose& pose, const std::str
   geometry_msgs::PoseStamped msg;
   msg.header.stamp = secondsToRosTime(pose.t);
   msg.header.frame_id = world_frame;
-  const auto& p = pose.T_world_cam.p;
-  const auto& q = pose.T_world_cam.q;
+  const Eigen::Vector3d p = pose.T_world_camera.p_world_camera();
+  const Eigen::Quaterniond q = pose.T_world_camera.q_world_camera();
   msg.pose.position.x = p.x();
   msg.pose.position.y = p.y();
   msg.pose.position.z = p.z();
@@ -37,8 +37,8 @@ geometry_msgs::TransformStamped toTransform(const StampedPose& pose, const std::
   msg.header.stamp = secondsToRosTime(pose.t);
   msg.header.frame_id = world_frame;
   msg.child_frame_id = child_frame;
-  const auto& p = pose.T_world_cam.p;
-  const auto& q = pose.T_world_cam.q;
+  const Eigen::Vector3d p = pose.T_world_camera.p_world_camera();
+  const Eigen::Quaterniond q = pose.T_world_camera.q_world_camera();
   msg.transform.translation.x = p.x();
   msg.transform.translation.y = p.y();
   msg.transform.translation.z = p.z();

@@ -1,5 +1,7 @@
 #include <dvs_driver/event_bag_io.h>
+#include <dvs_driver/param_table_ros.h>
 #include <dvs_screen_sim/ros_conversions.h>
+#include <dvs_screen_sim/simulator_params.h>
 #include <dvs_screen_sim/simulator_ros.h>
 
 #include <dvs_msgs/EventArray.h>
@@ -10,35 +12,21 @@ namespace dvs_screen_sim
 {
 SimulatorRos::SimulatorRos(ros::NodeHandle nh, ros::NodeHandle pnh) : nh_(nh), pnh_(pnh)
 {
-  std::string scenario, config_file;
-  int seed = 0;
-  double duration = 0, packet_period = 0;
-  pnh_.param<std::string>("scenario", scenario, "flip");
-  pnh_.param<std::string>("config_file", config_file, "");
-  pnh_.param("seed", seed, 0);
-  pnh_.param("duration", duration, 0.0);
-  pnh_.param("real_time_factor", real_time_factor_, 1.0);
-  pnh_.param("loop", loop_, false);
-  pnh_.param("packet_period", packet_period, 0.001);
-  pnh_.param("wall_clock_stamps", wall_clock_stamps_, true);
-  pnh_.param<std::string>("world_frame", world_frame_, "world");
-  pnh_.param<std::string>("camera_frame", camera_frame_, "dvs");
-  pnh_.param<std::string>("ground_truth_frame", gt_frame_, "dvs_gt");
-  pnh_.param("start_delay", start_delay_, 0.0);
-  pnh_.param("wait_for_subscribers", wait_for_subscribers_, false);
-  if (seed < 0)
-    throw std::invalid_argument("parameter ~seed must be >= 0");
-  if (duration < 0)
-    throw std::invalid_argument("parameter ~duration must be >= 0 (0: the scenario's length)");
-  if (!(real_time_factor_ >= 0))
-    throw std::invalid_argument("parameter ~real_time_factor must be >= 0 (0: as fast as possible)");
-  if (!(packet_period > 0))
-    throw std::invalid_argument("parameter ~packet_period must be > 0");
-  if (!(start_delay_ >= 0))
-    throw std::invalid_argument("parameter ~start_delay must be >= 0 [s]");
-  if (world_frame_.empty() || camera_frame_.empty() || gt_frame_.empty())
-    throw std::invalid_argument("parameters ~world_frame, ~camera_frame, ~ground_truth_frame must not be empty");
-  config_ = resolveSimConfigFile(scenario, config_file, static_cast<uint64_t>(seed),
+  SimulatorParams p;
+  dvs_driver::ParamTable table = simulatorParamTable(p);
+  dvs_driver::loadRosParams(pnh_, table);
+  const std::string& scenario = p.scenario;
+  real_time_factor_ = p.real_time_factor;
+  loop_ = p.loop;
+  wall_clock_stamps_ = p.wall_clock_stamps;
+  world_frame_ = p.world_frame;
+  camera_frame_ = p.camera_frame;
+  gt_frame_ = p.ground_truth_frame;
+  start_delay_ = p.start_delay;
+  wait_for_subscribers_ = p.wait_for_subscribers;
+  const int seed = p.seed;
+  const double duration = p.run.duration, packet_period = p.run.packet_period;
+  config_ = resolveSimConfigFile(scenario, p.config_file, static_cast<uint64_t>(seed),
                                  duration > 0 ? std::optional<double>(duration) : std::nullopt);
   config_.packet_period = packet_period;
   // 1000 packets = 1 s of 1 ms packets: a subscriber in another process may lag that much

@@ -8,73 +8,31 @@ namespace dvs_screen_sim
 {
 namespace screen_loop
 {
-struct EmulatedScreenLoop::Program
+/// What the virtual monitor's frames show: the current showFrames() call's drawer (black between
+/// calls).
+struct EmulatedScreen::Phase
 {
-  enum class Mode
-  {
-    Blank,
-    Circles,
-    Lines,
-    Scene
-  };
-  Mode mode = Mode::Blank;
-  AlignmentPattern pattern;
-  ProjectionPipeline pipeline;
-  // Lines
-  Pose T_world_virtual;
-  std::vector<WorldLine> lines;
-  double line_width = 0.003;
-  bool corrected = true;
-  // Scene playback
-  const Scene* scene = nullptr;
-  const Trajectory* trajectory = nullptr;
-  int64_t first_frame = 0;
-  double refresh_period = 1.0 / 60;
-  TimeScale time_scale;
-  PoseTrajectory* shown = nullptr;  ///< receives the displayed poses when set
-  double seen_delay = 0;            ///< screen time from a frame's nominal time to its light being half-way (half the response time)
+  const DrawFrame* draw = nullptr;
+  const FrameShown* shown = nullptr;
+  int64_t first = 0;  ///< frame index of the call's first frame
+  double period = 1.0 / 60;
 
-  void draw(int64_t frame, GlScreenRenderer& gl)
+  void frame(int64_t f, GlScreenRenderer& gl) const
   {
-    switch (mode)
+    if (!draw)
     {
-      case Mode::Blank:
-        gl.clear(0.0);
-        return;
-      case Mode::Circles:
-        gl.clear(pattern.off_intensity);
-        if ((frame / pattern.blink_frames) % 2 == 0)
-          gl.drawViewportDiscs(patternCentresViewport(pattern), pattern.radius_px, pattern.on_intensity);
-        return;
-      case Mode::Lines:
-        gl.clear(0.0);
-        if (frame % 2 == 0)
-        {
-          gl.setMatrices(corrected ? pipeline.correctedProjection() : pipeline.projection(), viewMatrix(T_world_virtual));
-          gl.drawWorldLines(lines, line_width, 1.0);
-        }
-        return;
-      case Mode::Scene:
-      {
-        // Sample and hold: frame f stays on screen for one refresh, trajectory time
-        // [(f - first) dt, (f - first + 1) dt) with dt = refresh_period / time scale. It shows the
-        // pose at the centre of that interval: the DVS's events of a frame switch fill the band
-        // swept between two consecutive displayed poses, so they are centred on the switch time.
-        const double t_traj =
-            std::max(0.0, time_scale.trajectoryTime((static_cast<double>(frame - first_frame) + 0.5) * refresh_period));
-        const Pose pose = trajectory->poseAt(t_traj);
-        gl.clear(scene->background_reflectance);
-        gl.setMatrices(pipeline.correctedProjection(), viewMatrix(pose));
-        gl.drawScenePolygons(*scene, t_traj);
-        // The DVS sees the frame once the monitor's light has moved half-way to it (half its
-        // response time after the switch): the ground truth is stamped then.
-        if (shown && frame >= first_frame)
-          shown->push_back(
-              {time_scale.trajectoryTime((static_cast<double>(frame - first_frame) + 0.5) * refresh_period + seen_delay),
-               pose});
-        return;
-      }
+      gl.clear(0.0);
+      return;
     }
+    Frame fr;
+    fr.index = f;
+    fr.k = f - first;
+    fr.start_ns = static_cast<int64_t>(std::llround(static_cast<double>(f) * period * 1e9));
+    fr.t = static_cast<double>(f - first) * period;
+    (*draw)(fr, gl);
+    // The virtual monitor shows it from its refresh on.
+    if (shown && *shown)
+      (*shown)(fr, fr.start_ns);
   }
 };
 
@@ -103,112 +61,106 @@ Pose EmulationConfig::dvsPoseAimedAt(const Eigen::Vector3d& ypr_deg, const Eigen
 {
   const Eigen::Quaterniond q = orientationFromYawPitchRollDeg(ypr_deg);
   const Eigen::Vector3d axis = q * Eigen::Vector3d::UnitZ();
-  return Pose{Eigen::Vector3d(aim.x(), aim.y(), 0.0) - distance / std::abs(axis.z()) * axis, q};
+  return Pose::fromWorldCamera(q, Eigen::Vector3d(Eigen::Vector3d(aim.x(), aim.y(), 0.0) - distance / std::abs(axis.z()) * axis));
 }
 
-EmulatedScreenLoop::EmulatedScreenLoop(const EmulationConfig& config, GlScreenRenderer& gl)
-  : config_(config), gl_(gl), program_(std::make_shared<Program>())
+EmulatedScreen::EmulatedScreen(const EmulationConfig& config, GlScreenRenderer& gl)
+  : config_(config), gl_(gl), phase_(std::make_shared<Phase>())
 {
-  config_.pattern.validate();
-  program_->pattern = config_.pattern;
-  program_->pipeline = ProjectionPipeline(config_.camera);
-  program_->refresh_period = config_.refresh_period;
+  phase_->period = config_.refresh_period;
   Scene physical;
   physical.background_reflectance = config_.monitor.black_level;
-  auto program = program_;
+  auto phase = phase_;
   physical.images.push_back(makeVirtualMonitor(gl_, config_.monitor, config_.refresh_period,
-                                               [program](int64_t f, GlScreenRenderer& g) { program->draw(f, g); }));
+                                               [phase](int64_t f, GlScreenRenderer& g) { phase->frame(f, g); }));
   physical.finalize();
   still_ = std::make_unique<StaticTrajectory>(config_.T_wall_dvs);
   sim_ = std::make_unique<EventSimulator>(config_.camera, physical, config_.model, config_.sampling, config_.seed);
   sim_->start(*still_, 0.0);
 }
 
-ProjectionPipeline& EmulatedScreenLoop::pipeline()
+void EmulatedScreen::advanceTo(double t)
 {
-  return program_->pipeline;
+  released_.clear();
+  sim_->advanceTo(t, released_);
+  if (keeping_)
+    for (const auto& e : released_)
+      if (e.t_ns >= keep_from_ns_)
+        kept_.push_back(e);
 }
 
-int64_t EmulatedScreenLoop::alignToRefresh()
+bool EmulatedScreen::showFrames(double duration, const DrawFrame& draw, const FrameShown& shown)
 {
-  const int64_t next = static_cast<int64_t>(std::floor(sim_->currentTime() / config_.refresh_period + 1e-9)) + 1;
-  dvs_driver::EventVector discard;
-  sim_->advanceTo(next * config_.refresh_period, discard);
-  return next;
+  const double p = config_.refresh_period;
+  // Content switches at refreshes: the first frame is the next refresh's.
+  const int64_t first = static_cast<int64_t>(std::floor(sim_->currentTime() / p + 1e-9)) + 1;
+  phase_->draw = &draw;
+  phase_->shown = &shown;
+  phase_->first = first;
+  advanceTo(static_cast<double>(first) * p);
+  // A whole number of refreshes ends exactly on a refresh (whose frame is still this call's).
+  const double n = duration / p;
+  const double whole = std::round(n);
+  advanceTo(std::abs(n - whole) < 1e-9 ? static_cast<double>(first + static_cast<int64_t>(whole)) * p
+                                       : static_cast<double>(first) * p + duration);
+  phase_->draw = nullptr;
+  phase_->shown = nullptr;
+  return true;
 }
 
-GridAlignment EmulatedScreenLoop::align()
+void EmulatedScreen::keepFrom(int64_t from_dvs_ns)
 {
-  program_->mode = Program::Mode::Circles;
-  const int64_t f0 = alignToRefresh();
-  dvs_driver::EventVector events;
-  sim_->advanceTo((f0 + config_.alignment_frames) * config_.refresh_period, events);
-  dvs_calibration::EventWindow window(config_.camera.width(), config_.camera.height());
-  window.reset(static_cast<int64_t>(std::llround((f0 + 1) * config_.refresh_period * 1e9)),
-               static_cast<int64_t>(std::llround((f0 + config_.alignment_frames) * config_.refresh_period * 1e9)));
-  for (const auto& e : events)
-    if (e.t_ns >= window.beginNs())
-      window.add(e);
-  GridAlignment a = alignFromEvents(window, config_.camera, program_->pipeline, config_.pattern, config_.detector);
-  if (a.ok)
-    program_->pipeline.setCorrection(a.result.H);
-  return a;
+  keeping_ = true;
+  keep_from_ns_ = from_dvs_ns;
+  kept_.clear();
 }
 
-dvs_driver::EventVector EmulatedScreenLoop::showLines(const Pose& T_world_virtual, const std::vector<WorldLine>& lines,
-                                                      double width, bool corrected, int frames)
+void EmulatedScreen::drain()
 {
-  program_->mode = Program::Mode::Lines;
-  program_->T_world_virtual = T_world_virtual;
-  program_->lines = lines;
-  program_->line_width = width;
-  program_->corrected = corrected;
-  const int64_t f0 = alignToRefresh();
-  dvs_driver::EventVector events, out;
-  sim_->advanceTo((f0 + frames) * config_.refresh_period, events);
-  const auto t_first = static_cast<int64_t>(std::llround((f0 + 1) * config_.refresh_period * 1e9));
-  for (const auto& e : events)
-    if (e.t_ns >= t_first)
-      out.push_back(e);
+  released_.clear();
+  sim_->flush(released_);
+  if (keeping_)
+    for (const auto& e : released_)
+      if (e.t_ns >= keep_from_ns_)
+        kept_.push_back(e);
+}
+
+dvs_driver::EventVector EmulatedScreen::takeKept()
+{
+  keeping_ = false;
+  dvs_driver::EventVector out;
+  out.swap(kept_);
   return out;
+}
+
+ProcedureConfig EmulatedScreenLoop::procedureConfig(const EmulationConfig& config)
+{
+  if (config.alignment_frames < 2)
+    throw std::invalid_argument("EmulationConfig.alignment_frames must be >= 2 (the first one is skipped)");
+  ProcedureConfig pc;
+  pc.pattern = config.pattern;
+  pc.detector = config.detector;
+  pc.alignment_settle = config.refresh_period;
+  pc.alignment_duration = (config.alignment_frames - 1) * config.refresh_period;
+  pc.alignment_attempts = 1;
+  pc.response_time = config.monitor.response_time;
+  pc.settle_frames = 1;
+  return pc;
+}
+
+EmulatedScreenLoop::EmulatedScreenLoop(const EmulationConfig& config, GlScreenRenderer& gl)
+  : screen_(config, gl), procedure_(procedureConfig(config), config.camera, screen_, screen_)
+{
 }
 
 dvs_driver::EventVector EmulatedScreenLoop::playTrajectory(const Scene& scene, const Trajectory& trajectory,
                                                            double duration, const TimeScale& time_scale,
-                                                           PoseTrajectory* shown)
+                                                           dvs_calibration::Trajectory* shown)
 {
-  time_scale.validate();
-  // One refresh showing the start pose, so the playback starts from a settled screen.
-  program_->mode = Program::Mode::Scene;
-  program_->scene = &scene;
-  program_->trajectory = &trajectory;
-  program_->time_scale = time_scale;
-  program_->shown = shown;
-  program_->seen_delay = 0.5 * config_.monitor.response_time;
+  Playback p = procedure_.play(scene, trajectory, duration, time_scale);
   if (shown)
-    shown->clear();
-  program_->first_frame = std::numeric_limits<int64_t>::max() / 4;  // start pose until armed
-  const int64_t f_settle = alignToRefresh();
-  program_->first_frame = f_settle + 1;
-  dvs_driver::EventVector discard;
-  sim_->advanceTo((f_settle + 1) * config_.refresh_period, discard);
-  const double t0 = (f_settle + 1) * config_.refresh_period;
-  const int64_t t0_ns = static_cast<int64_t>(std::llround(t0 * 1e9));
-  dvs_driver::EventVector events;
-  sim_->advanceTo(t0 + time_scale.playbackTime(duration), events);
-  sim_->flush(events);
-  dvs_driver::EventVector out;
-  out.reserve(events.size());
-  for (auto e : events)
-  {
-    if (e.t_ns < t0_ns)
-      continue;
-    e.t_ns = time_scale.rescaleStampNs(e.t_ns - t0_ns);
-    out.push_back(e);
-  }
-  program_->mode = Program::Mode::Blank;
-  program_->shown = nullptr;
-  return out;
+    *shown = std::move(p.shown);
+  return std::move(p.events);
 }
 }  // namespace screen_loop
 }  // namespace dvs_screen_sim

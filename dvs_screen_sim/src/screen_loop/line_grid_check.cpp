@@ -60,14 +60,14 @@ Scene lineGridScene(int nx, int ny, double spacing, double width, const Intensit
   return scene;
 }
 
-std::vector<ImageSegment> expectedImageLines(const dvs_calibration::CameraModel& camera, const Pose& T_world_cam,
+std::vector<ImageSegment> expectedImageLines(const dvs_calibration::CameraModel& camera, const Pose& T_world_camera,
                                              const std::vector<WorldLine>& lines)
 {
   std::vector<ImageSegment> out;
   const double z_min = 0.01;
   for (const auto& l : lines)
   {
-    Eigen::Vector3d a = T_world_cam.worldToCam(l.a), b = T_world_cam.worldToCam(l.b);
+    Eigen::Vector3d a = T_world_camera.toCamera(l.a), b = T_world_camera.toCamera(l.b);
     if (a.z() < z_min && b.z() < z_min)
       continue;
     if (a.z() < z_min)

@@ -8,12 +8,11 @@ namespace dvs_screen_sim
 {
 namespace screen_loop
 {
-Eigen::Matrix4d viewMatrix(const Pose& T_world_cam)
+Eigen::Matrix4d viewMatrix(const Pose& T_world_camera)
 {
-  const Eigen::Matrix3d R_cam_world = T_world_cam.R_world_cam().transpose();
   Eigen::Matrix4d M = Eigen::Matrix4d::Identity();
-  M.topLeftCorner<3, 3>() = R_cam_world;
-  M.topRightCorner<3, 1>() = -R_cam_world * T_world_cam.p;
+  M.topLeftCorner<3, 3>() = T_world_camera.R_camera_world;
+  M.topRightCorner<3, 1>() = T_world_camera.t_camera_world;
   return M;
 }
 
@@ -68,16 +67,16 @@ ProjectionPipeline::ProjectionPipeline(const dvs_calibration::CameraModel& dvs, 
   A_ << k.fx / f_.fx, 0, k.cx, 0, k.fy / f_.fy, k.cy, 0, 0, 1;
 }
 
-Eigen::Vector4d ProjectionPipeline::clip(const Pose& T_world_cam, const Eigen::Vector3d& p_world, bool corrected) const
+Eigen::Vector4d ProjectionPipeline::clip(const Pose& T_world_camera, const Eigen::Vector3d& p_world, bool corrected) const
 {
   const Eigen::Matrix4d P = corrected ? correctedProjection() : projection();
-  return P * viewMatrix(T_world_cam) * p_world.homogeneous();
+  return P * viewMatrix(T_world_camera) * p_world.homogeneous();
 }
 
-bool ProjectionPipeline::viewport(const Pose& T_world_cam, const Eigen::Vector3d& p_world, Eigen::Vector2d& vp,
+bool ProjectionPipeline::viewport(const Pose& T_world_camera, const Eigen::Vector3d& p_world, Eigen::Vector2d& vp,
                                   bool corrected) const
 {
-  const Eigen::Vector4d c = clip(T_world_cam, p_world, corrected);
+  const Eigen::Vector4d c = clip(T_world_camera, p_world, corrected);
   if (!(c.w() > 1e-12))
     return false;
   vp = Eigen::Vector2d(c.x() / c.w(), c.y() / c.w());

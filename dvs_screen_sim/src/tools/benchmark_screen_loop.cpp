@@ -69,7 +69,7 @@ int main(int argc, char** argv)
   };
   const std::vector<PoseCase> poses = {{{15, -12, 4}, {0.015, -0.01}}, {{-20, 8, -6}, {-0.02, 0.015}},
                                        {{10, 15, 0}, {0.0, 0.02}}};
-  const Pose T_world_virtual{{0.03, -0.02, 1.0}, orientationFromYawPitchRollDeg({4, -3, 8})};
+  const Pose T_world_virtual = Pose::fromWorldCamera(orientationFromYawPitchRollDeg({4, -3, 8}), Eigen::Vector3d(0.03, -0.02, 1.0));
   const auto lines = lineGrid(7, 7, 0.12);
   const double width = 0.003;
   std::vector<double> residual, offset, distance, floor_distance, uncorrected_offset;

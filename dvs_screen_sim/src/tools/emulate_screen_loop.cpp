@@ -186,7 +186,7 @@ int main(int argc, char** argv)
                 a.result.residual_dvs_px.rms, a.result.residual_dvs_px.mean, a.result.residual_dvs_px.max,
                 a.result.points);
     // The thesis's check (Fig. 3.3): a blinking line grid at 1 m.
-    const Pose T_check{{0.0, 0.0, 1.0}, lookingAtWallOrientation()};
+    const Pose T_check = Pose::fromWorldCamera(lookingAtWallOrientation(), Eigen::Vector3d(0.0, 0.0, 1.0));
     const auto lines = lineGrid(7, 7, 0.12);
     const auto st = eventLineDistances(loop.showLines(T_check, lines, 0.003, true, 7), ec.camera,
                                        expectedImageLines(ec.camera, T_check, lines));
@@ -203,7 +203,7 @@ int main(int argc, char** argv)
                 time_scale);
 
     const std::clock_t c0 = std::clock();
-    PoseTrajectory gt;  // the poses the screen showed, each stamped when the DVS sees it (centre of its display interval + half the response time)
+    dvs_calibration::Trajectory gt;  // the poses the screen showed, each stamped when the DVS sees it (centre of its display interval + half the response time)
     dvs_driver::EventVector events =
         loop.playTrajectory(config.scene, *trajectory, config.duration, TimeScale{time_scale}, &gt);
     const double cpu = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;

@@ -5,10 +5,13 @@
 // preset) and, for noisy presets, the pure-software run with the sensor as slow as the screen
 // makes it (noise rates x S, refractory period and latency / S: the noise the slowed playback
 // puts into each trajectory second). Each dataset is tracked by dvs_line_tracker's
-// `track_offline` and scored by `trajectory_error`: all run as external programs (the tracker
-// build-depends on this package, so linking it here would make a dependency loop).
+// `track_offline` (run as an external program: the tracker build-depends on this package, so
+// linking it here would make a dependency loop, as are `simulate` and `emulate_screen_loop`) and
+// scored by the suite's one accuracy metric, dvs_calibration::evaluateTrajectory.
 #include "screen_loop_tracker_comparison.h"
 
+#include <dvs_calibration/trajectory_accuracy.h>
+#include <dvs_calibration/trajectory_file.h>
 #include <dvs_screen_sim/event_simulator.h>
 
 #include <algorithm>
@@ -35,7 +38,8 @@ struct RunResult
   bool ok = false;
   std::string dir;
   size_t events = 0;
-  double position_rms_mm = 0, orientation_rms_deg = 0, coverage = 0;
+  double position_rms_mm = 0, orientation_rms_deg = 0;
+  double coverage = 0;  ///< share of the flight's ground-truth samples tracked (evaluateTrajectory's rule)
   double first_estimate = 0;  ///< time of the first pose (when the tracker initialised)
 };
 
@@ -120,24 +124,28 @@ std::string selfDirectory()
 
 struct Tools
 {
-  std::string simulate, emulate, track, error;
+  std::string simulate, emulate, track;
 };
 
-/// Scores dir/trajectory.txt against dir/groundtruth.txt from trajectory time `from` on.
-void score(const Tools& tools, const std::string& dir, double from, const std::string& log, RunResult& r)
+/// Scores dir/trajectory.txt against dir/groundtruth.txt from trajectory time `from` on with the
+/// suite's one accuracy metric (ground-truth samples, the latest estimate at or before each).
+void score(const std::string& dir, double from, RunResult& r)
 {
-  char from_arg[64];
-  std::snprintf(from_arg, sizeof(from_arg), " --from %.9f", from);
-  const std::string line = runCommand(quote(tools.error) + " --estimate " + quote(dir + "/trajectory.txt") +
-                                          " --groundtruth " + quote(dir + "/groundtruth.txt") + from_arg,
-                                      log);
-  size_t n = 0;
-  double pm, pmed, am, amed;
-  if (std::sscanf(line.c_str(),
-                  "n %zu position_mm mean %lf median %lf rms %lf orientation_deg mean %lf median %lf rms %lf "
-                  "coverage %lf",
-                  &n, &pm, &pmed, &r.position_rms_mm, &am, &amed, &r.orientation_rms_deg, &r.coverage) != 8)
-    throw std::runtime_error("cannot parse trajectory_error's output: " + line);
+  const auto estimate =
+      dvs_calibration::readTumTrajectory(dir + "/trajectory.txt", dvs_calibration::TimeOrder::NonDecreasing);
+  const auto groundtruth = dvs_calibration::readTumTrajectory(dir + "/groundtruth.txt");
+  dvs_calibration::AccuracyOptions options;
+  options.from_s = from;
+  const dvs_calibration::AccuracyReport a = dvs_calibration::evaluateTrajectory(estimate, groundtruth, options);
+  if (a.samples_fresh == 0)
+    throw std::runtime_error("no estimated pose inside the ground truth's time span of " + dir);
+  r.position_rms_mm = a.rms_position_m * 1e3;
+  r.orientation_rms_deg = a.rms_orientation_rad * 180.0 / M_PI;
+  // The share of the whole flight (from `from`) tracked: before the tracker initialises nothing is.
+  size_t flight = 0;
+  for (const auto& g : groundtruth)
+    flight += g.t >= from ? 1 : 0;
+  r.coverage = flight > 0 ? static_cast<double>(a.samples_tracked) / static_cast<double>(flight) : 0.0;
 }
 
 double firstEstimateTime(const std::string& path)
@@ -160,20 +168,19 @@ RunResult trackAndScore(const Tools& tools, const std::string& dir, const std::s
                  " --map " + quote(dir + "/map.yaml") + " --out " + quote(dir + "/trajectory.txt") + " >/dev/null",
              log);
   r.first_estimate = firstEstimateTime(dir + "/trajectory.txt");
-  score(tools, dir, -1e9, log, r);
+  score(dir, -1e9, r);
   r.ok = true;
   return r;
 }
 
 /// Position and orientation RMS ratios of `r` to `sw` over the span both track (from the later
 /// initialisation on): accuracy while tracking, apart from when tracking starts.
-std::pair<double, double> commonSpanRatios(const Tools& tools, const RunResult& r, const RunResult& sw,
-                                           const std::string& log)
+std::pair<double, double> commonSpanRatios(const RunResult& r, const RunResult& sw)
 {
   const double from = std::max(r.first_estimate, sw.first_estimate);
   RunResult a, b;
-  score(tools, r.dir, from, log, a);
-  score(tools, sw.dir, from, log, b);
+  score(r.dir, from, a);
+  score(sw.dir, from, b);
   return {a.position_rms_mm / b.position_rms_mm, a.orientation_rms_deg / b.orientation_rms_deg};
 }
 
@@ -214,8 +221,7 @@ int runScreenLoopTrackerComparison(int argc, char** argv)
   double response_ms = 5;
   std::string scenario = "flip", work = "/tmp/screen_loop_tracker_benchmark";
   const std::string here = selfDirectory();
-  Tools tools{here + "/simulate", here + "/emulate_screen_loop", here + "/../dvs_line_tracker/track_offline",
-              here + "/trajectory_error"};
+  Tools tools{here + "/simulate", here + "/emulate_screen_loop", here + "/../dvs_line_tracker/track_offline"};
   try
   {
     for (int i = 1; i < argc; ++i)
@@ -259,7 +265,7 @@ int runScreenLoopTrackerComparison(int argc, char** argv)
       else
         throw std::invalid_argument("unknown option " + a);
     }
-    for (const auto* t : {&tools.simulate, &tools.emulate, &tools.track, &tools.error})
+    for (const auto* t : {&tools.simulate, &tools.emulate, &tools.track})
       if (access(t->c_str(), X_OK) != 0)
         throw std::runtime_error("program not found: " + *t + " (build dvs_line_tracker, or pass --track-offline)");
     fs::create_directories(work);
@@ -274,9 +280,10 @@ int runScreenLoopTrackerComparison(int argc, char** argv)
   std::printf("tracker on the emulated screen in the loop vs pure software: scenario %s, monitor response %.1f ms, "
               "seeds 0..%d\n(datasets in %s, stderr of the programs in %s)\n",
               scenario.c_str(), response_ms, seeds - 1, work.c_str(), log.c_str());
-  std::printf("pos/ori: RMS position [mm] / orientation [deg] error; tracked: share of the flight with poses, from\n"
-              "init [s] on; ratios to the same seed's pure-software run over each run's own span, and over the span\n"
-              "both track (common)\n");
+  std::printf("pos/ori: RMS position [mm] / orientation [deg] error (dvs_calibration::evaluateTrajectory: at the\n"
+              "ground-truth samples, the latest pose at or before each); tracked: share of the flight's ground-truth\n"
+              "samples tracked (a pose at most 50 ms old within 10 cm / 10 deg), from init [s] on; ratios to the\n"
+              "same seed's pure-software run over each run's own span, and over the span both track (common)\n");
   std::printf("%-10s %4s %-26s %8s %9s %9s %7s %6s %9s %9s %9s %9s\n", "noise", "seed", "run", "events", "pos_rms",
               "ori_rms", "tracked", "init", "pos_ratio", "ori_ratio", "pos_comm", "ori_comm");
   // Per (noise, run label): per-seed values and ratios to the same seed's pure-software run.
@@ -308,7 +315,7 @@ int runScreenLoopTrackerComparison(int argc, char** argv)
       a.ori_ratio.push_back(orr);
       try
       {
-        const auto c = commonSpanRatios(tools, r, sw, log);
+        const auto c = commonSpanRatios(r, sw);
         a.common_pos_ratio.push_back(c.first);
         a.common_ori_ratio.push_back(c.second);
         a.last_common = c;

@@ -46,7 +46,29 @@ struct WorldLine
   Eigen::Vector3d a, b;
 };
 
-class GlScreenRenderer
+/// What the screen-in-the-loop procedure draws a frame with (GlScreenRenderer; a recording
+/// fake in the procedure's tests).
+class ScreenCanvas
+{
+public:
+  virtual ~ScreenCanvas() = default;
+  virtual int width() const = 0;
+  virtual int height() const = 0;
+  /// Clear the back buffer to a grey level.
+  virtual void clear(double intensity) = 0;
+  /// Load P (GL_PROJECTION, e.g. Hbar K_O) and the view matrix M_O (GL_MODELVIEW).
+  virtual void setMatrices(const Eigen::Matrix4d& projection, const Eigen::Matrix4d& view) = 0;
+  /// The scene's polygons at time t (intensities incl. modulation), in order, world z = 0.
+  /// (The wall background is not drawn: call clear(scene.background_reflectance) first.)
+  virtual void drawScenePolygons(const Scene& scene, double t) = 0;
+  /// World lines as quads `width` metres wide in the wall plane (through the loaded matrices).
+  virtual void drawWorldLines(const std::vector<WorldLine>& lines, double width, double intensity) = 0;
+  /// Filled circles directly in viewport coordinates (matrices bypassed), radius in window
+  /// pixels (round on screen whatever the window's aspect ratio).
+  virtual void drawViewportDiscs(const Points2d& centres_vp, double radius_px, double intensity, int segments = 64) = 0;
+};
+
+class GlScreenRenderer : public ScreenCanvas
 {
 public:
   /// Opens the window and its GL context (retrying the display for up to 2 s). Throws
@@ -57,22 +79,15 @@ public:
   GlScreenRenderer(const GlScreenRenderer&) = delete;
   GlScreenRenderer& operator=(const GlScreenRenderer&) = delete;
 
-  int width() const { return width_; }
-  int height() const { return height_; }
+  int width() const override { return width_; }
+  int height() const override { return height_; }
   bool vsyncEnabled() const { return vsync_; }
 
-  /// Clear the back buffer to a grey level.
-  void clear(double intensity);
-  /// Load P (GL_PROJECTION, e.g. Hbar K_O) and the view matrix M_O (GL_MODELVIEW).
-  void setMatrices(const Eigen::Matrix4d& projection, const Eigen::Matrix4d& view);
-  /// The scene's polygons at time t (intensities incl. modulation), in order, world z = 0.
-  /// (The wall background is not drawn: call clear(scene.background_reflectance) first.)
-  void drawScenePolygons(const Scene& scene, double t);
-  /// World lines as quads `width` metres wide in the wall plane (through the loaded matrices).
-  void drawWorldLines(const std::vector<WorldLine>& lines, double width, double intensity);
-  /// Filled circles directly in viewport coordinates (matrices bypassed), radius in window
-  /// pixels (round on screen whatever the window's aspect ratio).
-  void drawViewportDiscs(const Points2d& centres_vp, double radius_px, double intensity, int segments = 64);
+  void clear(double intensity) override;
+  void setMatrices(const Eigen::Matrix4d& projection, const Eigen::Matrix4d& view) override;
+  void drawScenePolygons(const Scene& scene, double t) override;
+  void drawWorldLines(const std::vector<WorldLine>& lines, double width, double intensity) override;
+  void drawViewportDiscs(const Points2d& centres_vp, double radius_px, double intensity, int segments = 64) override;
   /// Read the back buffer (what the next swap shows): grey levels in [0, 1], row-major, row 0 =
   /// the window's TOP row, width() * height() values.
   void readBackBuffer(std::vector<float>& grey);

@@ -3,7 +3,7 @@
 // is displayed, and the DVS's events are compared with where the lines should be.
 #include <dvs_calibration/camera_model.h>
 #include <dvs_driver/event.h>
-#include <dvs_screen_sim/pose.h>
+#include <dvs_screen_sim/wall_pose.h>
 #include <dvs_screen_sim/scene.h>
 #include <dvs_screen_sim/screen_loop/gl_screen_renderer.h>
 
@@ -29,9 +29,9 @@ struct ImageSegment
 {
   Eigen::Vector2d a, b;
 };
-/// The lines as the DVS at the virtual camera pose T_world_cam would see them (ideal pixels,
+/// The lines as the DVS at the virtual camera pose T_world_camera would see them (ideal pixels,
 /// Eq. 3.12); lines partly behind the camera are clipped at z = 0.01 m.
-std::vector<ImageSegment> expectedImageLines(const dvs_calibration::CameraModel& camera, const Pose& T_world_cam,
+std::vector<ImageSegment> expectedImageLines(const dvs_calibration::CameraModel& camera, const Pose& T_world_camera,
                                              const std::vector<WorldLine>& lines);
 
 struct LineDistanceStats

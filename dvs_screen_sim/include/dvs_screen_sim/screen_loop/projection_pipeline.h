@@ -17,7 +17,7 @@
 //
 // All matrices are Eigen column-major, ready for glLoadMatrixd(M.data()).
 #include <dvs_calibration/camera_model.h>
-#include <dvs_screen_sim/pose.h>
+#include <dvs_screen_sim/wall_pose.h>
 
 #include <Eigen/Core>
 
@@ -25,8 +25,8 @@ namespace dvs_screen_sim
 {
 namespace screen_loop
 {
-/// M_O (Eq. 3.2): [R_cam_world, t_cam_world; 0 0 0 1] for the virtual camera pose T_world_cam.
-Eigen::Matrix4d viewMatrix(const Pose& T_world_cam);
+/// M_O (Eq. 3.2): [R_cam_world, t_cam_world; 0 0 0 1] for the virtual camera pose T_world_camera.
+Eigen::Matrix4d viewMatrix(const Pose& T_world_camera);
 
 /// Virtual focal lengths matched to the DVS (Eq. 3.7/3.8).
 struct VirtualFocalLengths
@@ -64,10 +64,10 @@ public:
   Eigen::Matrix4d projection() const { return projectionMatrix(f_); }
   Eigen::Matrix4d correctedProjection() const { return expandHomography(H_) * projectionMatrix(f_); }
 
-  /// Clip coordinates of a world point seen from T_world_cam (corrected or not).
-  Eigen::Vector4d clip(const Pose& T_world_cam, const Eigen::Vector3d& p_world, bool corrected = true) const;
+  /// Clip coordinates of a world point seen from T_world_camera (corrected or not).
+  Eigen::Vector4d clip(const Pose& T_world_camera, const Eigen::Vector3d& p_world, bool corrected = true) const;
   /// Viewport coordinates (x right, y up, [-1, 1]); false when w_clip <= 0 (behind the camera).
-  bool viewport(const Pose& T_world_cam, const Eigen::Vector3d& p_world, Eigen::Vector2d& vp,
+  bool viewport(const Pose& T_world_camera, const Eigen::Vector3d& p_world, Eigen::Vector2d& vp,
                 bool corrected = true) const;
 
   /// The affine map between uncorrected viewport coordinates and the ideal (undistorted) DVS
