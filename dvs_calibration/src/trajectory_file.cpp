@@ -94,10 +94,16 @@ void writeTumTrajectory(std::ostream& out, const Trajectory& poses, const std::s
   if (!header.empty())
     out << "# " << header << "\n";
   char buf[256];
+  Eigen::Quaterniond previous(1, 0, 0, 0);
   for (const auto& sp : poses)
   {
     const Eigen::Vector3d p = sp.T_world_camera.p_world_camera();
-    const Eigen::Quaterniond q = sp.T_world_camera.q_world_camera();
+    // q and -q are the same rotation: keep each in the previous one's hemisphere so that the
+    // written components are continuous (plots, and tools that interpolate them naively).
+    Eigen::Quaterniond q = sp.T_world_camera.q_world_camera();
+    if (q.dot(previous) < 0)
+      q.coeffs() = -q.coeffs();
+    previous = q;
     std::snprintf(buf, sizeof(buf), "%.9f %.9f %.9f %.9f %.9f %.9f %.9f %.9f\n", sp.t, p.x(), p.y(), p.z(), q.x(),
                   q.y(), q.z(), q.w());
     out << buf;

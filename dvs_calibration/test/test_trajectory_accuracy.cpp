@@ -243,3 +243,37 @@ TEST(CameraFile, YamlCalibTxtAndTheirSizes)
   std::remove(yaml.c_str());
   std::remove(txt.c_str());
 }
+
+TEST(TrajectoryFile, WrittenQuaternionsAreContinuous)
+{
+  // A full turn about z sampled every 10 deg: the rotation matrix -> quaternion conversion may
+  // pick either sign; the file keeps neighbouring quaternions in the same hemisphere.
+  Trajectory poses;
+  for (int i = 0; i <= 72; ++i)
+  {
+    const double a = i * 10.0 * M_PI / 180.0;
+    poses.push_back({0.01 * i, Pose::fromWorldCamera(Eigen::Quaterniond(Eigen::AngleAxisd(a, Eigen::Vector3d::UnitZ())),
+                                                     Eigen::Vector3d::Zero())});
+  }
+  std::stringstream ss;
+  writeTumTrajectory(ss, poses);
+  const Trajectory back = readTumTrajectory(ss, "turn");
+  ASSERT_EQ(back.size(), poses.size());
+  std::stringstream again;
+  writeTumTrajectory(again, poses);
+  std::string line;
+  double last[4] = {0, 0, 0, 1};
+  int rows = 0;
+  while (std::getline(again, line))
+  {
+    double t, x, y, z, qx, qy, qz, qw;
+    if (std::sscanf(line.c_str(), "%lf %lf %lf %lf %lf %lf %lf %lf", &t, &x, &y, &z, &qx, &qy, &qz, &qw) != 8)
+      continue;
+    EXPECT_GT(qx * last[0] + qy * last[1] + qz * last[2] + qw * last[3], 0.9) << "row " << rows;
+    last[0] = qx, last[1] = qy, last[2] = qz, last[3] = qw;
+    ++rows;
+  }
+  EXPECT_EQ(rows, 73);
+  for (size_t i = 0; i < back.size(); ++i)
+    EXPECT_LT(orientationError(back[i].T_world_camera, poses[i].T_world_camera), 1e-6);  // 9 decimals
+}
