@@ -41,9 +41,10 @@ seed fuzz_tracker_params "$root"/dvs_line_tracker/config/thesis_params.yaml
 seed fuzz_event_array "$tmp/events.txt"
 
 status=0
+ok=0 bad=0
 for target in fuzz_events_text fuzz_aedat2 fuzz_dvs128_decoder fuzz_camera_files fuzz_line_map fuzz_tracker_params fuzz_event_array; do
   exe="$build/$target"
-  if [ ! -x "$exe" ]; then echo "fuzz: $target was not built" >&2; status=1; continue; fi
+  if [ ! -x "$exe" ]; then echo "fuzz: $target was not built" >&2; status=1; bad=$(( bad + 1 )); continue; fi
   findings="$build/findings/$target"; mkdir -p "$findings" "$build/corpus/$target"
   log="$findings/log.txt"
   TMPDIR="$findings" "$exe" "$build/corpus/$target" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 \
@@ -54,8 +55,11 @@ for target in fuzz_events_text fuzz_aedat2 fuzz_dvs128_decoder fuzz_camera_files
     echo "fuzz: $target FOUND A PROBLEM (exit $rc, ${runs:-?} runs): $log"
     grep -E "ERROR|SUMMARY|runtime error|Test unit written" "$log" | head -n 8
     status=1
+    bad=$(( bad + 1 ))
   else
     echo "fuzz: $target ok (${runs:-?} runs in ${seconds} s)"
+    ok=$(( ok + 1 ))
   fi
 done
+echo "${ok} passed, ${bad} failed"
 exit $status

@@ -3,6 +3,8 @@
 # `N passed, N failed, N skipped` as the last line. Exits non-zero on any failure.
 #   scripts/test.sh           everything (what .ci/run calls)
 #   scripts/test.sh --quick   the core gtests only: no rostest, no test labelled `slow`
+#   scripts/test.sh --sanitize  the --quick gtests built with ASan + UBSan in build_sanitize/
+#                               (scripts/test_sanitize.sh)
 # How a test is marked slow: catkin registers every gtest with ctest as
 # _ctest_<package>_gtest_<target>; a package's CMakeLists.txt gives its slow ones the ctest
 # label `slow` right where it registers them:
@@ -18,8 +20,9 @@ source "$root/scripts/env.sh"
 quick=0
 case "${1:-}" in
   --quick) quick=1 ;;
+  --sanitize) exec bash "$root/scripts/test_sanitize.sh" ;;
   "") ;;
-  *) echo "usage: scripts/test.sh [--quick]" >&2; echo "0 passed, 1 failed"; exit 2 ;;
+  *) echo "usage: scripts/test.sh [--quick | --sanitize]" >&2; echo "0 passed, 1 failed"; exit 2 ;;
 esac
 
 scripts/setup.sh || { echo "test: set-up or build failed"; echo "0 passed, 1 failed"; exit 1; }

@@ -24,18 +24,20 @@ const char* tokenEnd(const char* p, const char* end)
   return p;
 }
 
+/// Skips a leading sign; true when it was '-'.
+bool takeSign(const char*& b, const char* e)
+{
+  const bool neg = b < e && *b == '-';
+  if (b < e && (*b == '-' || *b == '+'))
+    ++b;
+  return neg;
+}
+
 bool parseInt(const char* b, const char* e, long& v)
 {
+  const bool neg = takeSign(b, e);
   if (b == e)
     return false;
-  bool neg = false;
-  if (*b == '-' || *b == '+')
-  {
-    neg = (*b == '-');
-    ++b;
-    if (b == e)
-      return false;
-  }
   long r = 0;
   for (; b < e; ++b)
   {
@@ -57,12 +59,7 @@ bool parseSecondsToNs(const char* b, const char* e, int64_t& ns)
 {
   if (b == e)
     return false;
-  bool neg = false;
-  if (*b == '-' || *b == '+')
-  {
-    neg = (*b == '-');
-    ++b;
-  }
+  const bool neg = takeSign(b, e);
   int64_t whole = 0;
   int digits = 0;
   for (; b < e && *b >= '0' && *b <= '9'; ++b, ++digits)

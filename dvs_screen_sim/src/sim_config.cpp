@@ -433,6 +433,15 @@ SimConfig resolveSimConfig(const std::string& scenario, const YAML::Node& overri
   }
   if (!(c.duration > 0))
     throw ConfigError("the resolved duration is not positive");
+  // Refused up front rather than running until killed: the ground truth is kept in memory
+  // (one pose per sample), and an hour of a flying DVS is ~15 GB of events.txt.
+  constexpr double kMaxDuration = 3600.0;
+  const double gt_megabytes = c.duration * c.groundtruth_rate * sizeof(dvs_calibration::StampedPose) / 1e6;
+  if (c.duration > kMaxDuration || gt_megabytes > 2000.0)
+    throw ConfigError("duration " + std::to_string(c.duration) + " s is more than the simulator runs at once (at most " +
+                      std::to_string(static_cast<int>(kMaxDuration)) + " s and 2000 MB of ground truth; this run's "
+                      "ground truth alone would take " + std::to_string(static_cast<long long>(gt_megabytes)) +
+                      " MB at " + std::to_string(c.groundtruth_rate) + " Hz): split it into shorter runs");
   tree["duration"] = c.duration;
   c.resolved = tree;
   return c;

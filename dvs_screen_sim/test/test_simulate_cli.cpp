@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 
 namespace
@@ -14,6 +15,18 @@ int run(const std::string& args)
 {
   const std::string cmd = std::string(SIMULATE_EXECUTABLE) + " " + args + " > /dev/null 2>&1";
   const int status = std::system(cmd.c_str());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+/// Exit code, and stderr into `err`.
+int runCapture(const std::string& args, std::string& err)
+{
+  const std::string log = std::filesystem::temp_directory_path() / ("dvs_sim_cli_err_" + std::to_string(::getpid()));
+  const std::string cmd = std::string(SIMULATE_EXECUTABLE) + " " + args + " > /dev/null 2> " + log;
+  const int status = std::system(cmd.c_str());
+  std::ifstream in(log);
+  err.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  std::filesystem::remove(log);
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
@@ -53,5 +66,17 @@ TEST(SimulateCli, RejectsBadArgumentsAndConfigurations)
   std::ofstream(cfg) << "events: {threshold_on: -0.2}\n";
   EXPECT_EQ(run("--scenario flip --out " + dir + " --config " + cfg), 1);
   std::filesystem::remove(cfg);
+  std::filesystem::remove_all(dir);
+}
+
+TEST(SimulateCli, RefusesRunsTooLongUpFrontWithTheEstimate)
+{
+  // Used to run until killed; now refused before anything is simulated or written.
+  const std::string dir = tempDir("long");
+  std::string err;
+  EXPECT_EQ(runCapture("--scenario flip --out " + dir + " --duration 1e7", err), 1);
+  EXPECT_NE(err.find("more than the simulator runs at once"), std::string::npos) << err;
+  EXPECT_NE(err.find("MB at 1000"), std::string::npos) << err;
+  EXPECT_FALSE(std::filesystem::exists(dir + "/events.txt"));
   std::filesystem::remove_all(dir);
 }
