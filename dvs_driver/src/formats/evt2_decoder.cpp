@@ -13,8 +13,8 @@ constexpr int64_t kWrapThresholdUs = kWrapUs - 64 - 10000;  // vendor rule
 constexpr size_t kMaxKeptTriggers = 1 << 20;
 }  // namespace
 
-Evt2Decoder::Evt2Decoder(uint32_t width, uint32_t height)
-  : width_(width ? width : kAddressLimit), height_(height ? height : kAddressLimit)
+Evt2Decoder::Evt2Decoder(uint32_t width, uint32_t height, int64_t time_offset_us)
+  : width_(width ? width : kAddressLimit), height_(height ? height : kAddressLimit), offset_us_(time_offset_us)
 {
 }
 
@@ -37,7 +37,7 @@ Event* Evt2Decoder::decode(const uint8_t* data, size_t n_words, Event* p, Event*
         if (!have_th_)
           ++stats.before_time;
         else if (x < width && y < height)
-          *p++ = Event{(th_us | ((w >> 22) & 0x3F)) * 1000, x, y, bool(w >> 28)};
+          *p++ = Event{(offset_us_ + (th_us | ((w >> 22) & 0x3F))) * 1000, x, y, bool(w >> 28)};
         else
           ++stats.out_of_range;
         break;
@@ -61,7 +61,7 @@ Event* Evt2Decoder::decode(const uint8_t* data, size_t n_words, Event* p, Event*
         ++stats.triggers;
         if (triggers && have_th_ && triggers->size() < kMaxKeptTriggers)
           triggers->push_back(
-              TriggerEvent{(th_us | ((w >> 22) & 0x3F)) * 1000, uint8_t((w >> 8) & 0x1F), bool(w & 1)});
+              TriggerEvent{(offset_us_ + (th_us | ((w >> 22) & 0x3F))) * 1000, uint8_t((w >> 8) & 0x1F), bool(w & 1)});
         break;
       case 0xD:  // IMU
       case 0xE:  // OTHERS

@@ -11,14 +11,14 @@ constexpr uint32_t kAddressLimit = 2048;  // 11-bit addresses
 constexpr size_t kMaxKeptTriggers = 1 << 20;
 }  // namespace
 
-Evt3Decoder::Evt3Decoder(uint32_t width, uint32_t height)
-  : width_(width ? width : kAddressLimit), height_(height ? height : kAddressLimit)
+Evt3Decoder::Evt3Decoder(uint32_t width, uint32_t height, int64_t time_offset_us)
+  : width_(width ? width : kAddressLimit), height_(height ? height : kAddressLimit), offset_us_(time_offset_us)
 {
 }
 
 void Evt3Decoder::updateTime()
 {
-  base_ns_ = ((loop_ << 24) | (int64_t(th_) << 12)) * 1000;
+  base_ns_ = (offset_us_ + ((loop_ << 24) | (int64_t(th_) << 12))) * 1000;
   t_ns_ = base_ns_ + int64_t(tl_) * 1000;
   cd_ok_ = have_th_ && have_tl_ && have_y_ && y_in_range_;
 }

@@ -111,6 +111,9 @@ RawHeader parseRawHeader(const uint8_t* data, size_t size, const std::string& na
   else
     throw EventFormatError(name + ": Prophesee RAW event format '" + version +
                            "' is not supported (EVT 2.0 and EVT 3.0 are)");
+  auto o = h.keys.find("dvs_time_offset_us");
+  if (o != h.keys.end())
+    h.time_offset_us = std::strtoll(o->second.c_str(), nullptr, 10);
   auto e = h.keys.find("endianness");
   if (e != h.keys.end() && e->second != "little")
     throw EventFormatError(name + ": Prophesee RAW endianness '" + e->second + "' is not supported (little is)");
@@ -142,7 +145,7 @@ class RawReader : public BatchedReader
 {
 public:
   RawReader(std::unique_ptr<ChunkedFile> file, const RawHeader& header)
-    : file_(std::move(file)), header_(header), decoder_(header.width, header.height)
+    : file_(std::move(file)), header_(header), decoder_(header.width, header.height, header.time_offset_us)
   {
     stats_.file_size = file_->size();
     file_->consume(header.data_offset);

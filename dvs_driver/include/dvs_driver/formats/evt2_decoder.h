@@ -13,7 +13,8 @@ namespace formats
 class Evt2Decoder
 {
 public:
-  Evt2Decoder(uint32_t width = 0, uint32_t height = 0);
+  /// time_offset_us is added to every time (0 for sensor files).
+  Evt2Decoder(uint32_t width = 0, uint32_t height = 0, int64_t time_offset_us = 0);
 
   /// Decode up to n_words 32-bit little-endian words into [p, end) (never past end). Sets
   /// words_used and returns the new p.
@@ -25,6 +26,7 @@ private:
   bool have_th_ = false;
   int64_t th_us_ = 0;   // (wraps << 34) + (time high << 6), us
   int64_t wrap_us_ = 0;
+  int64_t offset_us_ = 0;
 };
 }  // namespace formats
 }  // namespace dvs_driver

@@ -15,8 +15,9 @@ namespace formats
 class Evt3Decoder
 {
 public:
-  /// width/height 0 = unknown (only the 11-bit address limit applies).
-  Evt3Decoder(uint32_t width = 0, uint32_t height = 0);
+  /// width/height 0 = unknown (only the 11-bit address limit applies). time_offset_us is added
+  /// to every time (0 for sensor files; see Evt3Writer).
+  Evt3Decoder(uint32_t width = 0, uint32_t height = 0, int64_t time_offset_us = 0);
 
   /// Maximum events one word can produce (the decoder may write this many past `end`).
   static constexpr size_t kMaxEventsPerWord = 12;
@@ -38,6 +39,7 @@ private:
   bool have_th_ = false, have_tl_ = false;
   uint32_t th_ = 0, tl_ = 0;
   int64_t loop_ = 0;
+  int64_t offset_us_ = 0;
   int64_t base_ns_ = 0;  // (loop << 24 | th << 12) us in ns
   int64_t t_ns_ = 0;
   // address
