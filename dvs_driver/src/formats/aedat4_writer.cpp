@@ -99,8 +99,8 @@ Aedat4Writer::Aedat4Writer(const std::string& path, uint32_t width, uint32_t hei
   // IOHeader, positions relative to the size prefix (written at file offset 14).
   std::vector<uint8_t> b;
   put<uint32_t>(b, 4, 24 - 4);  // root table at 24
-  std::memcpy(b.data() + 8, "IOHE", 4);
   b.resize(12);
+  std::memcpy(b.data() + 8, "IOHE", 4);
   put<uint16_t>(b, 12, 10);  // vtable: size, table size, fields 0..2
   put<uint16_t>(b, 14, 20);
   put<uint16_t>(b, 16, 4);   // compression int32 at table + 4
