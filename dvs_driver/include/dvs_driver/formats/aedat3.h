@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace dvs_driver
 {
@@ -17,5 +18,26 @@ std::unique_ptr<EventFileReader> openAedat3(const std::string& path);
 
 /// Sensor size of a cAER device name ("DAVIS346B" -> 346x260); false if unknown.
 bool aedat3SourceSize(const std::string& device, uint32_t& width, uint32_t& height);
+
+/// Writes AEDAT 3.1 polarity packets (source id 1, `#Source 1: <device>`). The device name is
+/// what carries the sensor size (DVS128, DAVIS240C, DAVIS346B...). Times in microseconds
+/// (t_ns / 1000, floor), >= 0; a new packet starts when the 31-bit timestamp overflows.
+class Aedat3Writer
+{
+public:
+  Aedat3Writer(const std::string& path, const std::string& device, size_t events_per_packet = 4096);
+  ~Aedat3Writer();
+  void write(const Event* events, size_t n);
+  void write(const EventVector& events) { write(events.data(), events.size()); }
+  void close();
+
+private:
+  void flushPacket();
+  std::string path_;
+  std::FILE* f_ = nullptr;
+  size_t per_packet_;
+  int32_t overflow_ = -1;
+  std::vector<uint32_t> words_;  // data, timestamp pairs
+};
 }  // namespace formats
 }  // namespace dvs_driver

@@ -64,6 +64,7 @@ struct ReaderStats
   uint64_t triggers = 0;           ///< external trigger events seen
   uint64_t time_wraps = 0;         ///< time counter wraps unwrapped (EVT 3.0: 2^24 us; EVT 2.0: 2^34 us)
   uint64_t time_backsteps = 0;     ///< time steps backwards taken as they are (EVT 3.0 TIME_LOW/HIGH)
+  uint64_t invalid_events = 0;     ///< events the file marks invalid (AEDAT 3.1 valid bit), skipped
   uint64_t damaged_packets = 0;    ///< packets that could not be decoded (bad compression, layout), skipped
   bool truncated = false;          ///< the file ends inside a word, packet or record
   uint64_t truncated_offset = 0;   ///< byte offset where the incomplete data starts
