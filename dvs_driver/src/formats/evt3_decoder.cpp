@@ -16,27 +16,24 @@ Evt3Decoder::Evt3Decoder(uint32_t width, uint32_t height, int64_t time_offset_us
 {
 }
 
-void Evt3Decoder::updateTime()
-{
-  base_ns_ = (offset_us_ + ((loop_ << 24) | (int64_t(th_) << 12))) * 1000;
-  t_ns_ = base_ns_ + int64_t(tl_) * 1000;
-  cd_ok_ = have_th_ && have_tl_ && have_y_ && y_in_range_;
-}
-
 Event* Evt3Decoder::decode(const uint8_t* data, size_t n_words, Event* p, Event* end, size_t& words_used,
                            ReaderStats& stats, std::vector<TriggerEvent>* triggers)
 {
+  // All hot state lives in locals (members could alias the event stores) and is written back
+  // at the end.
   size_t i = 0;
-  // Hot state in locals (the compiler cannot keep members in registers across the stores to p).
-  int64_t t_ns = t_ns_;
+  bool have_th = have_th_, have_tl = have_tl_, have_y = have_y_, y_in_range = y_in_range_;
+  uint32_t th = th_, tl = tl_;
+  int64_t loop = loop_, base_ns = base_ns_, t_ns = t_ns_;
   uint16_t y = y_;
   bool cd_ok = cd_ok_;
   uint32_t base_x = base_x_;
-  bool vect_pol = vect_pol_;
-  bool base_ok = base_ok_;
-  const uint32_t width = width_;
+  bool vect_pol = vect_pol_, base_ok = base_ok_;
+  const uint32_t width = width_, height = height_;
+  const int64_t offset_ns = offset_us_ * 1000;
+
   auto drop = [&](uint64_t n) {
-    if (!(have_th_ && have_tl_))
+    if (!(have_th && have_tl))
       stats.before_time += n;
     else
       stats.out_of_range += n;  // no y yet, y out of range, x out of range
@@ -48,17 +45,6 @@ Event* Evt3Decoder::decode(const uint8_t* data, size_t n_words, Event* p, Event*
     ++i;
     switch (w >> 12)
     {
-      case 0x0:  // EVT_ADDR_Y
-        y = w & 0x7FF;
-        have_y_ = true;
-        y_in_range_ = y < height_;
-        cd_ok = have_th_ && have_tl_ && y_in_range_;
-        break;
-      case 0x1:  // Y address of non-CD events: CD words ignored until the next ADDR_Y
-        have_y_ = false;
-        cd_ok = false;
-        ++stats.other_words;
-        break;
       case 0x2:  // EVT_ADDR_X
       {
         // Runs of ADDR_X words are the common case: stay in this loop while they last.
@@ -79,6 +65,17 @@ Event* Evt3Decoder::decode(const uint8_t* data, size_t n_words, Event* p, Event*
         }
         break;
       }
+      case 0x0:  // EVT_ADDR_Y
+        y = w & 0x7FF;
+        have_y = true;
+        y_in_range = y < height;
+        cd_ok = have_th && have_tl && y_in_range;
+        break;
+      case 0x1:  // Y address of non-CD events: CD words ignored until the next ADDR_Y
+        have_y = false;
+        cd_ok = false;
+        ++stats.other_words;
+        break;
       case 0x3:  // VECT_BASE_X
         base_x = w & 0x7FF;
         vect_pol = w & 0x800;
@@ -118,41 +115,40 @@ Event* Evt3Decoder::decode(const uint8_t* data, size_t n_words, Event* p, Event*
       }
       case 0x6:  // EVT_TIME_LOW
       {
-        const uint32_t tl = w & 0xFFF;
-        if (have_tl_ && tl < tl_)
+        const uint32_t new_tl = w & 0xFFF;
+        if (have_tl && new_tl < tl)
           ++stats.time_backsteps;
-        tl_ = tl;
-        have_tl_ = true;
-        updateTime();
-        t_ns = t_ns_;
-        cd_ok = cd_ok_;
+        tl = new_tl;
+        have_tl = true;
+        t_ns = base_ns + int64_t(tl) * 1000;
+        cd_ok = have_th && have_y && y_in_range;
         break;
       }
       case 0x8:  // EVT_TIME_HIGH
       {
-        const uint32_t th = w & 0xFFF;
-        if (have_th_ && th < th_)
+        const uint32_t new_th = w & 0xFFF;
+        if (have_th && new_th < th)
         {
-          if (th_ - th >= 2048)
+          if (th - new_th >= 2048)
           {
-            ++loop_;
+            ++loop;
             ++stats.time_wraps;
           }
           else
             ++stats.time_backsteps;
         }
-        if (!have_th_ || th != th_)
-          tl_ = 0;
-        th_ = th;
-        have_th_ = true;
-        updateTime();
-        t_ns = t_ns_;
-        cd_ok = cd_ok_;
+        if (!have_th || new_th != th)
+          tl = 0;  // the vendor zeroes TIME_LOW when TIME_HIGH changes
+        th = new_th;
+        have_th = true;
+        base_ns = offset_ns + ((loop << 24) | (int64_t(th) << 12)) * 1000;
+        t_ns = base_ns + int64_t(tl) * 1000;
+        cd_ok = have_tl && have_y && y_in_range;
         break;
       }
       case 0xA:  // EXT_TRIGGER
         ++stats.triggers;
-        if (triggers && have_th_ && have_tl_ && triggers->size() < kMaxKeptTriggers)
+        if (triggers && have_th && have_tl && triggers->size() < kMaxKeptTriggers)
           triggers->push_back(TriggerEvent{t_ns, uint8_t((w >> 8) & 0xF), bool(w & 1)});
         break;
       case 0x7:  // CONTINUED_4
@@ -165,6 +161,15 @@ Event* Evt3Decoder::decode(const uint8_t* data, size_t n_words, Event* p, Event*
         break;
     }
   }
+  have_th_ = have_th;
+  have_tl_ = have_tl;
+  have_y_ = have_y;
+  y_in_range_ = y_in_range;
+  th_ = th;
+  tl_ = tl;
+  loop_ = loop;
+  base_ns_ = base_ns;
+  t_ns_ = t_ns;
   y_ = y;
   cd_ok_ = cd_ok;
   base_x_ = base_x;

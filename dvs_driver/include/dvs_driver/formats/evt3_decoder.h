@@ -32,8 +32,6 @@ public:
   uint32_t height() const { return height_; }
 
 private:
-  void updateTime();
-
   uint32_t width_, height_;
   // time
   bool have_th_ = false, have_tl_ = false;
