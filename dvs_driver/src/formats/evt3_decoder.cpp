@@ -16,28 +16,53 @@ Evt3Decoder::Evt3Decoder(uint32_t width, uint32_t height, int64_t time_offset_us
 {
 }
 
+int64_t Evt3Decoder::onTimeLow(uint16_t w, ReaderStats& stats)
+{
+  const uint32_t tl = w & 0xFFF;
+  if (have_tl_ && tl < tl_)
+    ++stats.time_backsteps;
+  tl_ = tl;
+  have_tl_ = true;
+  t_ns_ = base_ns_ + int64_t(tl_) * 1000;
+  return t_ns_;
+}
+
+int64_t Evt3Decoder::onTimeHigh(uint16_t w, ReaderStats& stats)
+{
+  const uint32_t th = w & 0xFFF;
+  if (have_th_ && th < th_)
+  {
+    if (th_ - th >= 2048)
+    {
+      ++loop_;
+      ++stats.time_wraps;
+    }
+    else
+      ++stats.time_backsteps;
+  }
+  if (!have_th_ || th != th_)
+    tl_ = 0;  // the vendor zeroes TIME_LOW when TIME_HIGH changes
+  th_ = th;
+  have_th_ = true;
+  base_ns_ = (offset_us_ + ((loop_ << 24) | (int64_t(th_) << 12))) * 1000;
+  t_ns_ = base_ns_ + int64_t(tl_) * 1000;
+  return t_ns_;
+}
+
 Event* Evt3Decoder::decode(const uint8_t* data, size_t n_words, Event* p, Event* end, size_t& words_used,
                            ReaderStats& stats, std::vector<TriggerEvent>* triggers)
 {
-  // All hot state lives in locals (members could alias the event stores) and is written back
-  // at the end.
+  // The hot state lives in locals (members could alias the event stores) and is written back
+  // at the end; the rare time words go through member functions.
   size_t i = 0;
-  bool have_th = have_th_, have_tl = have_tl_, have_y = have_y_, y_in_range = y_in_range_;
-  uint32_t th = th_, tl = tl_;
-  int64_t loop = loop_, base_ns = base_ns_, t_ns = t_ns_;
+  int64_t t_ns = t_ns_;
   uint16_t y = y_;
-  bool cd_ok = cd_ok_;
+  bool time_ok = have_th_ && have_tl_;
+  bool y_ok = y_ok_;
+  bool cd_ok = time_ok && y_ok;
   uint32_t base_x = base_x_;
   bool vect_pol = vect_pol_, base_ok = base_ok_;
   const uint32_t width = width_, height = height_;
-  const int64_t offset_ns = offset_us_ * 1000;
-
-  auto drop = [&](uint64_t n) {
-    if (!(have_th && have_tl))
-      stats.before_time += n;
-    else
-      stats.out_of_range += n;  // no y yet, y out of range, x out of range
-  };
 
   while (i < n_words && p < end)
   {
@@ -55,7 +80,7 @@ Event* Evt3Decoder::decode(const uint8_t* data, size_t n_words, Event* p, Event*
           if (cd_ok && x < width)
             *p++ = Event{t_ns, x, y, bool(v & 0x800)};
           else
-            drop(1);
+            ++(time_ok ? stats.out_of_range : stats.before_time);
           if (i == n_words || p >= end)
             break;
           v = loadLE<uint16_t>(data + 2 * i);
@@ -67,12 +92,11 @@ Event* Evt3Decoder::decode(const uint8_t* data, size_t n_words, Event* p, Event*
       }
       case 0x0:  // EVT_ADDR_Y
         y = w & 0x7FF;
-        have_y = true;
-        y_in_range = y < height;
-        cd_ok = have_th && have_tl && y_in_range;
+        y_ok = y < height;
+        cd_ok = time_ok && y_ok;
         break;
       case 0x1:  // Y address of non-CD events: CD words ignored until the next ADDR_Y
-        have_y = false;
+        y_ok = false;
         cd_ok = false;
         ++stats.other_words;
         break;
@@ -104,51 +128,28 @@ Event* Evt3Decoder::decode(const uint8_t* data, size_t n_words, Event* p, Event*
             if (base_x + b < width)
               *p++ = Event{t_ns, uint16_t(base_x + b), y, vect_pol};
             else
-              drop(1);
+              ++stats.out_of_range;
             mask &= mask - 1;
           }
         }
         else if (mask)
-          drop(__builtin_popcount(mask));
+          (time_ok ? stats.out_of_range : stats.before_time) += uint64_t(__builtin_popcount(mask));
         base_x += n;
         break;
       }
       case 0x6:  // EVT_TIME_LOW
-      {
-        const uint32_t new_tl = w & 0xFFF;
-        if (have_tl && new_tl < tl)
-          ++stats.time_backsteps;
-        tl = new_tl;
-        have_tl = true;
-        t_ns = base_ns + int64_t(tl) * 1000;
-        cd_ok = have_th && have_y && y_in_range;
+        t_ns = onTimeLow(w, stats);
+        time_ok = have_th_;
+        cd_ok = time_ok && y_ok;
         break;
-      }
       case 0x8:  // EVT_TIME_HIGH
-      {
-        const uint32_t new_th = w & 0xFFF;
-        if (have_th && new_th < th)
-        {
-          if (th - new_th >= 2048)
-          {
-            ++loop;
-            ++stats.time_wraps;
-          }
-          else
-            ++stats.time_backsteps;
-        }
-        if (!have_th || new_th != th)
-          tl = 0;  // the vendor zeroes TIME_LOW when TIME_HIGH changes
-        th = new_th;
-        have_th = true;
-        base_ns = offset_ns + ((loop << 24) | (int64_t(th) << 12)) * 1000;
-        t_ns = base_ns + int64_t(tl) * 1000;
-        cd_ok = have_tl && have_y && y_in_range;
+        t_ns = onTimeHigh(w, stats);
+        time_ok = have_tl_;
+        cd_ok = time_ok && y_ok;
         break;
-      }
       case 0xA:  // EXT_TRIGGER
         ++stats.triggers;
-        if (triggers && have_th && have_tl && triggers->size() < kMaxKeptTriggers)
+        if (triggers && time_ok && triggers->size() < kMaxKeptTriggers)
           triggers->push_back(TriggerEvent{t_ns, uint8_t((w >> 8) & 0xF), bool(w & 1)});
         break;
       case 0x7:  // CONTINUED_4
@@ -161,17 +162,8 @@ Event* Evt3Decoder::decode(const uint8_t* data, size_t n_words, Event* p, Event*
         break;
     }
   }
-  have_th_ = have_th;
-  have_tl_ = have_tl;
-  have_y_ = have_y;
-  y_in_range_ = y_in_range;
-  th_ = th;
-  tl_ = tl;
-  loop_ = loop;
-  base_ns_ = base_ns;
-  t_ns_ = t_ns;
   y_ = y;
-  cd_ok_ = cd_ok;
+  y_ok_ = y_ok;
   base_x_ = base_x;
   vect_pol_ = vect_pol;
   base_ok_ = base_ok;

@@ -32,19 +32,20 @@ public:
   uint32_t height() const { return height_; }
 
 private:
+  int64_t onTimeLow(uint16_t w, ReaderStats& stats);
+  int64_t onTimeHigh(uint16_t w, ReaderStats& stats);
+
   uint32_t width_, height_;
   // time
   bool have_th_ = false, have_tl_ = false;
   uint32_t th_ = 0, tl_ = 0;
   int64_t loop_ = 0;
   int64_t offset_us_ = 0;
-  int64_t base_ns_ = 0;  // (loop << 24 | th << 12) us in ns
+  int64_t base_ns_ = 0;  // (offset + (loop << 24 | th << 12)) us in ns
   int64_t t_ns_ = 0;
   // address
-  bool have_y_ = false;
-  bool y_in_range_ = false;
+  bool y_ok_ = false;  // an ADDR_Y was seen and is inside the sensor
   uint16_t y_ = 0;
-  bool cd_ok_ = false;   // time known, CD y known and in range
   bool base_ok_ = false;
   uint32_t base_x_ = 0;
   bool vect_pol_ = false;
