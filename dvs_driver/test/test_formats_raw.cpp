@@ -37,6 +37,21 @@ TEST(FormatsRaw, DetectsFromTheFirstBytesNotTheName)
   misnamed.write(readBytes(sample(kEvt3)));
   auto r = openEventFile(misnamed.path());
   EXPECT_EQ(r->formatName(), "Prophesee RAW EVT 3.0");
+  EXPECT_EQ(detectEventFormat(reinterpret_cast<const uint8_t*>("#ROSBAG V2.0\n"), 13), EventFormat::RosBag1);
+  EXPECT_EQ(detectEventFormat(reinterpret_cast<const uint8_t*>("\x89HDF\r\n\x1a\n"), 8), EventFormat::Hdf5);
+  EXPECT_EQ(detectEventFormat(reinterpret_cast<const uint8_t*>("#!AER-DAT3.1\r\n"), 14), EventFormat::Aedat3);
+  EXPECT_EQ(detectEventFormat(reinterpret_cast<const uint8_t*>("0.001 1 2 1\n"), 12), EventFormat::Unknown);
+  TempFile hdf(".h5");
+  hdf.write(reinterpret_cast<const uint8_t*>("\x89HDF\r\n\x1a\n\0\0\0\0"), 12);
+  try
+  {
+    openEventFile(hdf.path());
+    ADD_FAILURE() << "HDF5 accepted";
+  }
+  catch (const EventFormatError& e)
+  {
+    EXPECT_NE(std::string(e.what()).find("HDF5 files are not read"), std::string::npos) << e.what();
+  }
   TempFile junk(".raw");
   junk.write(std::vector<uint8_t>{1, 2, 3, 4, 5});
   EXPECT_THROW(openEventFile(junk.path()), EventFormatError);

@@ -37,6 +37,12 @@ EventFormat detectEventFormat(const uint8_t* d, size_t n)
     return EventFormat::Aedat2;
   if (starts("% "))
     return EventFormat::PropheseeRaw;
+  if (starts("#ROSBAG V2.0"))
+    return EventFormat::RosBag1;
+  if (n >= 8 && std::memcmp(d, "\x89HDF\r\n\x1a\n", 8) == 0)
+    return EventFormat::Hdf5;
+  if (n >= 16 && std::memcmp(d, "SQLite format 3", 16) == 0)
+    return EventFormat::Sqlite;
   return EventFormat::Unknown;
 }
 
@@ -63,6 +69,12 @@ const char* eventFormatName(EventFormat f)
       return "AEDAT 4.0";
     case EventFormat::PropheseeRaw:
       return "Prophesee RAW";
+    case EventFormat::RosBag1:
+      return "ROS 1 bag";
+    case EventFormat::Hdf5:
+      return "HDF5";
+    case EventFormat::Sqlite:
+      return "SQLite (ROS 2 bag?)";
     default:
       return "unknown";
   }
@@ -123,7 +135,23 @@ std::unique_ptr<EventFileReader> openEventFile(const std::string& path)
     case EventFormat::Aedat3:
       return formats::openAedat3(path);
     case EventFormat::Aedat2:
-      return std::make_unique<Aedat2Reader>(path);
+      try
+      {
+        return std::make_unique<Aedat2Reader>(path);
+      }
+      catch (const EventFormatError&)
+      {
+        throw;
+      }
+      catch (const EventFileError& e)
+      {
+        throw EventFormatError(e.what());
+      }
+    case EventFormat::RosBag1:
+    case EventFormat::Hdf5:
+    case EventFormat::Sqlite:
+      throw EventFormatError(path + ": " + eventFormatName(f) + " files are not read by openEventFile" +
+                             (f == EventFormat::RosBag1 ? " (dvs_msgs bags: event_bag_io.h)" : ""));
     default:
       throw EventFormatError(path + ": unknown event file format (not AEDAT 2.0/3.1/4.0 or Prophesee RAW by its "
                                     "first bytes)");

@@ -43,7 +43,8 @@ public:
   /// Throws EventFormatError if the file cannot be created.
   Aedat4Writer(const std::string& path, uint32_t width, uint32_t height, const Aedat4WriterOptions& options = {});
   ~Aedat4Writer();  ///< closes (errors then are swallowed: call close() to see them)
-  /// Events must have non-decreasing t_ns; t is stored in microseconds (t_ns / 1000, floor).
+  /// t is stored in microseconds (t_ns / 1000, floor); events are written in the order given
+  /// (each data-table entry records its packet's smallest and largest time).
   void write(const EventVector& events);
   void write(const Event* events, size_t n);
   /// Flush the last packet, write the data table, patch the header. Throws on I/O errors.

@@ -28,10 +28,14 @@ enum class EventFormat
   Aedat2,     ///< `#!AER-DAT2.0` (read by aedat_reader.h)
   Aedat3,     ///< `#!AER-DAT3.x`
   Aedat4,     ///< `#!AER-DAT4.0`
-  PropheseeRaw  ///< `% ` header lines (EVT 2.0 / 3.0 chosen by the header)
+  PropheseeRaw,  ///< `% ` header lines (EVT 2.0 / 3.0 chosen by the header)
+  RosBag1,       ///< `#ROSBAG V2.0` (read by event_bag_io.h, not by openEventFile)
+  Hdf5,          ///< HDF5 signature (not read yet)
+  Sqlite         ///< `SQLite format 3` (e.g. a ROS 2 bag; not read)
 };
 
 /// Detect the format from the first bytes of the file (throws EventFormatError if unreadable).
+/// Unknown for anything else, e.g. events.txt.
 EventFormat detectEventFormat(const std::string& path);
 /// Same, from the first bytes of a file (at least 16 for a sure answer).
 EventFormat detectEventFormat(const uint8_t* data, size_t size);
@@ -104,7 +108,9 @@ public:
 };
 
 /// Open `path`, detect its format from its first bytes and return the matching streaming reader
-/// (Prophesee RAW EVT 2.0/3.0, AEDAT 3.1, AEDAT 4.0). Throws EventFormatError naming the file
-/// and the problem (unknown format, unsupported version / compression, bad header).
+/// (Prophesee RAW EVT 2.0/3.0, AEDAT 3.1, AEDAT 4.0; AEDAT 2.0 through aedat_reader.h, which
+/// reads the whole file first). Throws EventFormatError naming the file and the problem (unknown
+/// format, a detected format this function does not read, unsupported version / compression,
+/// bad header). Text files (events.txt) have no signature: they come back as unknown.
 std::unique_ptr<EventFileReader> openEventFile(const std::string& path);
 }  // namespace dvs_driver
