@@ -1,6 +1,9 @@
 #include <dvs_driver/formats/evt3_decoder.h>
 #include <dvs_driver/formats/chunked_file.h>
 
+#include <cstddef>
+#include <cstring>
+
 namespace dvs_driver
 {
 namespace formats
@@ -8,6 +11,17 @@ namespace formats
 namespace
 {
 constexpr uint32_t kAddressLimit = 2048;  // 11-bit addresses
+
+static_assert(sizeof(Event) == 16 && offsetof(Event, t_ns) == 0 && offsetof(Event, x) == 8 &&
+                  offsetof(Event, y) == 10 && offsetof(Event, polarity) == 12,
+              "Event layout assumed by putEvent");
+
+/// Writes one event as two 8-byte stores; `xyp` = x | y << 16 | polarity << 32 (padding 0).
+inline void putEvent(Event* p, int64_t t_ns, uint64_t xyp)
+{
+  std::memcpy(reinterpret_cast<char*>(p), &t_ns, 8);
+  std::memcpy(reinterpret_cast<char*>(p) + 8, &xyp, 8);
+}
 constexpr size_t kMaxKeptTriggers = 1 << 20;
 }  // namespace
 
@@ -56,96 +70,93 @@ Event* Evt3Decoder::decode(const uint8_t* data, size_t n_words, Event* p, Event*
   // at the end; the rare time words go through member functions.
   size_t i = 0;
   int64_t t_ns = t_ns_;
-  uint16_t y = y_;
+  uint64_t y16 = uint64_t(y_) << 16;  // y, placed for putEvent
   bool time_ok = have_th_ && have_tl_;
   bool y_ok = y_ok_;
-  bool cd_ok = time_ok && y_ok;
   uint32_t base_x = base_x_;
   bool vect_pol = vect_pol_, base_ok = base_ok_;
   const uint32_t width = width_, height = height_;
 
+  uint64_t dropped = 0;  // CD events not emitted since time_ok last changed
+  auto flushDropped = [&]() {
+    (time_ok ? stats.out_of_range : stats.before_time) += dropped;
+    dropped = 0;
+  };
+
   while (i < n_words && p < end)
   {
-    const uint16_t w = loadLE<uint16_t>(data + 2 * i);
+    const uint32_t w = loadLE<uint16_t>(data + 2 * i);
     ++i;
-    switch (w >> 12)
+    const uint32_t type = w >> 12;
+    if (__builtin_expect((type & 0xD) == 0, 1))  // 0x0 ADDR_Y or 0x2 ADDR_X
     {
-      case 0x2:  // EVT_ADDR_X
-      {
-        // Runs of ADDR_X words are the common case: stay in this loop while they last.
-        uint16_t v = w;
-        for (;;)
-        {
-          const uint16_t x = v & 0x7FF;
-          if (cd_ok && x < width)
-            *p++ = Event{t_ns, x, y, bool(v & 0x800)};
-          else
-            ++(time_ok ? stats.out_of_range : stats.before_time);
-          if (i == n_words || p >= end)
-            break;
-          v = loadLE<uint16_t>(data + 2 * i);
-          if ((v >> 12) != 0x2)
-            break;
-          ++i;
-        }
-        break;
-      }
-      case 0x0:  // EVT_ADDR_Y
-        y = w & 0x7FF;
-        y_ok = y < height;
-        cd_ok = time_ok && y_ok;
-        break;
+      // ADDR_Y and ADDR_X (~85 % of the words of a real recording) without branches: the
+      // candidate event is always written and p advances only for a kept ADDR_X.
+      const uint64_t a = w & 0x7FF;
+      const uint64_t is_x = type >> 1;          // 1 for ADDR_X, 0 for ADDR_Y
+      const uint64_t mx = 0 - is_x;             // all ones for ADDR_X
+      y16 = (y16 & mx) | ((a << 16) & ~mx);
+      const uint32_t in_h = a < height, in_w = a < width;
+      y_ok = (uint32_t(y_ok) & uint32_t(is_x)) | (in_h & uint32_t(is_x ^ 1));
+      const uint64_t keep = is_x & uint64_t(time_ok & y_ok) & in_w;
+      putEvent(p, t_ns, y16 | a | (uint64_t(w & 0x800) << 21));
+      p += keep;
+      dropped += is_x & (keep ^ 1);
+      continue;
+    }
+    switch (type)
+    {
       case 0x1:  // Y address of non-CD events: CD words ignored until the next ADDR_Y
         y_ok = false;
-        cd_ok = false;
         ++stats.other_words;
         break;
       case 0x3:  // VECT_BASE_X
         base_x = w & 0x7FF;
-        vect_pol = w & 0x800;
+        vect_pol = (w & 0x800) != 0;
         base_ok = true;
         break;
       case 0x4:  // VECT_12
       case 0x5:  // VECT_8
       {
-        const bool v12 = (w >> 12) == 0x4;
+        const bool v12 = type == 0x4;
         uint32_t mask = v12 ? (w & 0xFFF) : (w & 0xFF);
         const uint32_t n = v12 ? 12 : 8;
-        if (cd_ok && base_ok && base_x + n <= width)
+        const bool ok = time_ok && y_ok && base_ok;
+        if (ok && base_x + n <= width)
         {
+          const uint64_t yp = y16 | (uint64_t(vect_pol) << 32) | base_x;
           while (mask)
           {
-            const uint32_t b = __builtin_ctz(mask);
-            *p++ = Event{t_ns, uint16_t(base_x + b), y, vect_pol};
+            putEvent(p++, t_ns, yp + __builtin_ctz(mask));
             mask &= mask - 1;
           }
         }
-        else if (cd_ok && base_ok)
+        else if (ok)
         {
           while (mask)
           {
             const uint32_t b = __builtin_ctz(mask);
             if (base_x + b < width)
-              *p++ = Event{t_ns, uint16_t(base_x + b), y, vect_pol};
+              putEvent(p++, t_ns, y16 | (uint64_t(vect_pol) << 32) | (base_x + b));
             else
-              ++stats.out_of_range;
+              ++dropped;
             mask &= mask - 1;
           }
         }
-        else if (mask)
-          (time_ok ? stats.out_of_range : stats.before_time) += uint64_t(__builtin_popcount(mask));
+        else
+          dropped += uint64_t(__builtin_popcount(mask));
         base_x += n;
         break;
       }
       case 0x6:  // EVT_TIME_LOW
-        t_ns = onTimeLow(w, stats);
+        flushDropped();
+        t_ns = onTimeLow(uint16_t(w), stats);
         time_ok = have_th_;
-        cd_ok = time_ok && y_ok;
         break;
       case 0x8:  // EVT_TIME_HIGH
-        t_ns = onTimeHigh(w, stats);
+        flushDropped();
+        t_ns = onTimeHigh(uint16_t(w), stats);
         time_ok = have_tl_;
-        cd_ok = time_ok && y_ok;
         break;
       case 0xA:  // EXT_TRIGGER
         ++stats.triggers;
@@ -162,7 +173,8 @@ Event* Evt3Decoder::decode(const uint8_t* data, size_t n_words, Event* p, Event*
         break;
     }
   }
-  y_ = y;
+  flushDropped();
+  y_ = uint16_t(y16 >> 16);
   y_ok_ = y_ok;
   base_x_ = base_x;
   vect_pol_ = vect_pol;
