@@ -6,6 +6,7 @@
 #include <dvs_driver/formats/aedat4.h>
 #include <dvs_driver/formats/prophesee_raw.h>
 
+#include <cmath>
 #include <cstring>
 #include <random>
 
@@ -274,4 +275,45 @@ TEST(FormatsAedat4, DamagedAndUnknownPacketsAreSkippedAndCounted)
   EXPECT_EQ(s.unknown_words, 1u);
   EXPECT_EQ(s.damaged_packets, 1u);
   EXPECT_FALSE(s.truncated);
+}
+
+TEST(FormatsAedat4, ImuSamplesOfTheRealSamples)
+{
+  // Counts from this decoder (not in the samples README); plausibility from physics: a camera
+  // at rest-ish sees about 1 g and small rotation rates; ~1 kHz IMU.
+  struct Case
+  {
+    std::string name;
+    size_t samples;
+  } cases[] = {{kDvx, 475}, {kDavis, 130}};
+  for (const auto& c : cases)
+  {
+    auto r = openEventFile(sample(c.name));
+    std::vector<ImuSample> imu;
+    EventVector batch, all;
+    while (r->read(batch, 10000))
+    {
+      all.insert(all.end(), batch.begin(), batch.end());
+      batch.clear();
+      r->takeImu(imu);
+    }
+    r->takeImu(imu);
+    ASSERT_EQ(imu.size(), c.samples) << c.name;
+    EXPECT_EQ(r->stats().imu_samples, c.samples);
+    for (size_t i = 0; i < imu.size(); ++i)
+    {
+      const ImuSample& s = imu[i];
+      if (i > 0)
+        EXPECT_GE(s.t_ns, imu[i - 1].t_ns);
+      EXPECT_GE(s.t_ns, all.front().t_ns - 2000000);
+      EXPECT_LE(s.t_ns, all.back().t_ns + 2000000);
+      const double g = std::sqrt(s.accel[0] * s.accel[0] + s.accel[1] * s.accel[1] + s.accel[2] * s.accel[2]);
+      EXPECT_GT(g, 9.0) << c.name << " sample " << i;
+      EXPECT_LT(g, 11.5) << c.name << " sample " << i;
+      for (float w : s.gyro)
+        EXPECT_LT(std::abs(w), 1.0f);  // rad/s
+      EXPECT_GT(s.temperature_c, 10.0f);
+      EXPECT_LT(s.temperature_c, 60.0f);
+    }
+  }
 }

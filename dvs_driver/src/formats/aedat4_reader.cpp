@@ -176,6 +176,9 @@ public:
         width_ = s.width;
         height_ = s.height;
       }
+    for (const auto& s : streams_)
+      if (s.type == "IMUS" && (imus_ < 0 || s.id < imus_))
+        imus_ = s.id;
     if (evts_ < 0)
       throw EventFormatError(path + ": AEDAT 4.0 file has no event stream (no typeIdentifier EVTS in its info)");
     limit_x_ = width_ ? width_ : 32768;
@@ -276,15 +279,17 @@ private:
         for (const auto& s : streams_)
           known |= s.id == stream;
         ++(known ? others : unknown);
-        continue;
+        if (stream != imus_)
+          continue;
       }
       if (off < int64_t(data_start_ + 8) || psize < 0 || off + psize > pos)
       {
         warn("table: an AEDAT 4.0 data table entry points outside the packets; packets are scanned");
         return;
       }
-      entries.push_back(Entry{uint64_t(off), psize});
-      expected += d.scalar<int64_t>(2, 0);
+      entries.push_back(Entry{uint64_t(off), psize, stream == imus_});
+      if (stream == evts_)
+        expected += d.scalar<int64_t>(2, 0);
     }
     entries_ = std::move(entries);
     expected_ = expected;
@@ -332,7 +337,9 @@ private:
 
   /// Read, decompress and check the EVTS packet whose payload (size bytes) starts at `offset`.
   /// False when it is damaged (counted, warned) or truncated (then done_ is set).
-  bool loadPacket(uint64_t offset, int32_t size)
+  /// Read and decompress the payload (size bytes) at `offset`; false when damaged (counted,
+  /// warned) or truncated (then done_ is set).
+  bool readPayload(uint64_t offset, int32_t size, const uint8_t*& buf, size_t& n, const char* what)
   {
     if (offset + uint64_t(size) > file_.size())
     {
@@ -350,15 +357,71 @@ private:
       return false;
     }
     stats_.bytes_read = offset + size;
-    const uint8_t* buf = nullptr;
-    size_t n = 0;
     if (!decompress(comp_.data.get(), size_t(size), buf, n))
     {
       ++stats_.damaged_packets;
-      warn("damaged: an AEDAT 4.0 event packet at byte " + std::to_string(offset - 8) +
+      warn(std::string("damaged: an AEDAT 4.0 ") + what + " packet at byte " + std::to_string(offset - 8) +
            " cannot be decompressed (" + last_error_ + "); skipped");
       return false;
     }
+    return true;
+  }
+
+  /// Decode an IMUS packet into imu_ (Imu tables: t, temperature, accelerometer xyz [g],
+  /// gyroscope xyz [deg/s], magnetometer xyz).
+  void loadImuPacket(uint64_t offset, int32_t size)
+  {
+    const uint8_t* buf = nullptr;
+    size_t n = 0;
+    if (!readPayload(offset, size, buf, n, "IMU"))
+      return;
+    uint32_t count = 0;
+    uint64_t first = 0;
+    FlatTable t;
+    if (n >= 12 && std::memcmp(buf + 8, "IMUS", 4) == 0)
+      t = FlatTable::root(buf + 4, n - 4);
+    if (!t.valid() || !t.vector(0, 4, count, first))
+    {
+      ++stats_.damaged_packets;
+      warn("damaged: an AEDAT 4.0 IMU packet at byte " + std::to_string(offset - 8) +
+           " is not an IMUS flatbuffer; skipped");
+      return;
+    }
+    constexpr float kG = 9.80665f, kDeg = 3.14159265358979f / 180.0f;
+    for (uint32_t k = 0; k < count; ++k)
+    {
+      const uint64_t e = first + 4 * k;
+      const FlatTable imu = FlatTable::at(t.buffer(), t.bufferSize(), e + loadLE<uint32_t>(t.buffer() + e));
+      if (!imu.valid())
+      {
+        ++stats_.damaged_packets;
+        return;
+      }
+      ImuSample s;
+      s.t_ns = imu.scalar<int64_t>(0, 0) * 1000;
+      s.temperature_c = imu.scalar<float>(1, 0.0f);
+      for (unsigned a = 0; a < 3; ++a)
+      {
+        s.accel[a] = imu.scalar<float>(2 + a, 0.0f) * kG;
+        s.gyro[a] = imu.scalar<float>(5 + a, 0.0f) * kDeg;
+      }
+      ++stats_.imu_samples;
+      if (imu_.size() < kMaxKept)
+        imu_.push_back(s);
+    }
+  }
+
+  bool loadPacket(uint64_t offset, int32_t size)
+  {
+    const uint8_t* buf = nullptr;
+    size_t n = 0;
+    if (!readPayload(offset, size, buf, n, "event"))
+      return false;
+    return parseEventPacket(offset, buf, n);
+  }
+
+  bool parseEventPacket(uint64_t offset, const uint8_t* buf, size_t n)
+  {
     uint32_t count = 0;
     uint64_t first = 0;
     FlatTable t;
@@ -390,6 +453,11 @@ private:
           break;
         }
         const Entry& e = entries_[next_entry_++];
+        if (e.imu)
+        {
+          loadImuPacket(e.offset, e.size);
+          continue;
+        }
         if (loadPacket(e.offset, e.size))
           return true;
         continue;
@@ -428,6 +496,8 @@ private:
       bool known = false;
       for (const auto& s : streams_)
         known |= s.id == stream;
+      if (stream == imus_)
+        loadImuPacket(payload, size);
       if (known)
         ++stats_.other_words;
       else
@@ -443,12 +513,13 @@ private:
   {
     uint64_t offset;
     int32_t size;
+    bool imu;  // an IMUS packet (else EVTS)
   };
 
   ChunkedFile file_;
   Aedat4Compression compression_ = Aedat4Compression::None;
   std::vector<StreamInfo> streams_;
-  int evts_ = -1;
+  int evts_ = -1, imus_ = -1;
   uint32_t width_ = 0, height_ = 0, limit_x_ = 0, limit_y_ = 0;
   uint64_t data_start_ = 0, end_of_packets_ = 0, scan_pos_ = 0;
   bool table_mode_ = false, done_ = false;

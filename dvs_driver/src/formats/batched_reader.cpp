@@ -53,6 +53,14 @@ size_t BatchedReader::takeTriggers(std::vector<TriggerEvent>& out)
   return n;
 }
 
+size_t BatchedReader::takeImu(std::vector<ImuSample>& out)
+{
+  const size_t n = imu_.size();
+  out.insert(out.end(), imu_.begin(), imu_.end());
+  imu_.clear();
+  return n;
+}
+
 void BatchedReader::warn(const std::string& text)
 {
   const std::string kind = text.substr(0, text.find(' '));

@@ -17,6 +17,11 @@ size_t EventFileReader::takeTriggers(std::vector<TriggerEvent>&)
   return 0;
 }
 
+size_t EventFileReader::takeImu(std::vector<ImuSample>&)
+{
+  return 0;
+}
+
 EventVector EventFileReader::readAll()
 {
   EventVector all;

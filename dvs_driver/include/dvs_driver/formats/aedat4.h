@@ -1,8 +1,9 @@
 #pragma once
 // AEDAT 4.0 (iniVation DV) reader and writer (ROS-free). The IOHeader, packet and data-table
 // flatbuffers are read and written by hand (no flatc). Compression: none, LZ4 frame (LZ4 and
-// LZ4_HIGH), zstd (ZSTD and ZSTD_HIGH). The events are those of the first EVTS stream; other
-// streams (frames, IMU, triggers) are skipped and counted as other_words.
+// LZ4_HIGH), zstd (ZSTD and ZSTD_HIGH). The events are those of the first EVTS stream; the
+// samples of the first IMUS stream come out through takeImu(); other streams (frames, triggers)
+// are skipped. Every non-EVTS packet is counted in other_words.
 #include <dvs_driver/formats/event_format.h>
 
 #include <cstdio>

@@ -14,6 +14,7 @@ public:
   bool read(EventVector& out, size_t max_events) override;
   ReaderStats stats() const override { return stats_; }
   size_t takeTriggers(std::vector<TriggerEvent>& out) override;
+  size_t takeImu(std::vector<ImuSample>& out) override;
 
 protected:
   static constexpr size_t kSlack = 64;
@@ -26,6 +27,8 @@ protected:
 
   ReaderStats stats_;
   std::vector<TriggerEvent> triggers_;
+  std::vector<ImuSample> imu_;
+  static constexpr size_t kMaxKept = 1 << 20;  ///< triggers / IMU samples kept between take calls
   bool finished_ = false;
 
 private:

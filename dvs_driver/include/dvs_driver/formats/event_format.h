@@ -54,6 +54,15 @@ inline bool operator==(const TriggerEvent& a, const TriggerEvent& b)
   return a.t_ns == b.t_ns && a.channel == b.channel && a.edge == b.edge;
 }
 
+/// One IMU sample (AEDAT 4.0 IMUS stream), converted to SI units from the file's g and deg/s.
+struct ImuSample
+{
+  int64_t t_ns = 0;
+  float accel[3] = {0, 0, 0};  ///< m/s^2 (file: g, x 9.80665)
+  float gyro[3] = {0, 0, 0};   ///< rad/s (file: deg/s)
+  float temperature_c = 0;
+};
+
 /// What a reader met besides the events it delivered. Counters only grow.
 struct ReaderStats
 {
@@ -66,6 +75,7 @@ struct ReaderStats
   uint64_t out_of_range = 0;       ///< events outside the sensor size, dropped
   uint64_t before_time = 0;        ///< events before the first time reference, dropped
   uint64_t triggers = 0;           ///< external trigger events seen
+  uint64_t imu_samples = 0;        ///< IMU samples decoded (see takeImu)
   uint64_t time_wraps = 0;         ///< time counter wraps unwrapped (EVT 3.0: 2^24 us; EVT 2.0: 2^34 us)
   uint64_t time_backsteps = 0;     ///< time steps backwards taken as they are (EVT 3.0 TIME_LOW/HIGH)
   uint64_t invalid_events = 0;     ///< events the file marks invalid (AEDAT 3.1 valid bit), skipped
@@ -99,6 +109,10 @@ public:
   /// many. Call after read() to keep memory bounded (at most 1,048,576 are kept between calls;
   /// further ones are counted in stats().triggers only).
   virtual size_t takeTriggers(std::vector<TriggerEvent>& out);
+
+  /// Move the IMU samples decoded so far (in file order) to the end of `out`; returns how many.
+  /// Same bounds as takeTriggers. Formats without IMU data return 0.
+  virtual size_t takeImu(std::vector<ImuSample>& out);
 
   /// Total number of events the file announces (AEDAT 4.0 data table), -1 when unknown.
   virtual int64_t expectedEvents() const { return -1; }
