@@ -1,6 +1,7 @@
 #include <dvs_driver/formats/chunked_file.h>
 #include <dvs_driver/formats/event_format.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 
