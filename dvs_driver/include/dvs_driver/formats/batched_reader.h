@@ -1,0 +1,39 @@
+#pragma once
+// Base of the readers whose decoders write straight into the caller's vector: a decoder may
+// write up to kSlack events past the requested end (one EVT 3.0 vector word, one AEDAT packet
+// piece); those are kept for the next read(). Internal to the format readers.
+#include <dvs_driver/formats/event_format.h>
+
+namespace dvs_driver
+{
+namespace formats
+{
+class BatchedReader : public EventFileReader
+{
+public:
+  bool read(EventVector& out, size_t max_events) override;
+  ReaderStats stats() const override { return stats_; }
+  size_t takeTriggers(std::vector<TriggerEvent>& out) override;
+  size_t takeImu(std::vector<ImuSample>& out) override;
+
+protected:
+  static constexpr size_t kSlack = 64;
+  static constexpr size_t kMaxBatch = 1 << 16;
+  /// Decode into [p, end) (may write up to kSlack past end); return the new p. Returning a p
+  /// below end means the file is exhausted.
+  virtual Event* decode(Event* p, Event* end) = 0;
+  /// Add a warning once per kind (kind = first word of the text).
+  void warn(const std::string& text);
+
+  ReaderStats stats_;
+  std::vector<TriggerEvent> triggers_;
+  std::vector<ImuSample> imu_;
+  static constexpr size_t kMaxKept = 1 << 20;  ///< triggers / IMU samples kept between take calls
+  bool finished_ = false;
+
+private:
+  EventVector pending_;
+  size_t pending_pos_ = 0;
+};
+}  // namespace formats
+}  // namespace dvs_driver
