@@ -60,7 +60,7 @@ TEST(FormatsAedat3, HandBuiltPacketsValidityOverflowAndSkippedTypes)
   TempFile t(".aedat");
   t.write(f.b);
   EXPECT_EQ(detectEventFormat(t.path()), EventFormat::Aedat3);
-  auto r = openEventFile(t.path());
+  auto r = openEventFileReader(t.path());
   EXPECT_EQ(r->formatName(), "AEDAT 3.1 (DAVIS240C)");
   EXPECT_EQ(r->width(), 240u);
   EXPECT_EQ(r->height(), 180u);
@@ -91,7 +91,7 @@ TEST(FormatsAedat3, RoundTrip)
     w.write(ev);
     w.close();
   }
-  auto r = openEventFile(f.path());
+  auto r = openEventFileReader(f.path());
   EXPECT_EQ(r->width(), 346u);
   EXPECT_EQ(r->height(), 260u);
   EXPECT_EQ(readInBatches(*r, 777), ev);
@@ -108,7 +108,7 @@ TEST(FormatsAedat3, TruncatedFileDeliversEveryCompleteEvent)
   f.b.resize(f.b.size() - 3);  // cut inside the third event
   TempFile t(".aedat");
   t.write(f.b);
-  auto r = openEventFile(t.path());
+  auto r = openEventFileReader(t.path());
   EXPECT_EQ(r->readAll(), (EventVector{ev(1, 1, 10, 1), ev(2, 2, 11, 1)}));
   const ReaderStats s = r->stats();
   EXPECT_TRUE(s.truncated);
@@ -126,7 +126,7 @@ TEST(FormatsAedat3, UnsupportedVersionAndFormatAreNamed)
     t.write(f.b);
     try
     {
-      openEventFile(t.path());
+      openEventFileReader(t.path());
       ADD_FAILURE() << "accepted: " << header;
     }
     catch (const EventFormatError& e)
@@ -147,7 +147,7 @@ TEST(FormatsAedat3, UnknownDeviceGivesUnknownSizeAndAWarning)
   f.polarity(1000, 900, true, 5);
   TempFile t(".aedat");
   t.write(f.b);
-  auto r = openEventFile(t.path());
+  auto r = openEventFileReader(t.path());
   EXPECT_EQ(r->width(), 0u);
   EXPECT_EQ(r->readAll(), (EventVector{ev(1000, 900, 5, 1)}));
   ASSERT_FALSE(r->stats().warnings.empty());
@@ -162,7 +162,7 @@ TEST(FormatsAedat2, OpenEventFileServesTheExistingAedat2Reader)
   const std::string path = std::string(DVS_REAL_DATA_DIR) + "/colleen_pen_short.aedat";
   EXPECT_EQ(detectEventFormat(path), EventFormat::Aedat2);
   const AedatRecording rec = readAedat(path);
-  auto r = openEventFile(path);
+  auto r = openEventFileReader(path);
   EXPECT_EQ(r->width(), rec.stream.width);
   EXPECT_EQ(r->height(), rec.stream.height);
   EXPECT_EQ(r->formatName(), "AEDAT 2.0 (" + rec.info.sensor_name + ")");

@@ -59,7 +59,7 @@ int64_t tablePosition(const std::vector<uint8_t>& b)
 
 TEST(FormatsAedat4, DvxplorerSampleKnownAnswers)
 {
-  auto r = openEventFile(sample(kDvx));
+  auto r = openEventFileReader(sample(kDvx));
   EXPECT_EQ(r->formatName(), "AEDAT 4.0 (LZ4)");
   EXPECT_EQ(r->width(), 320u);
   EXPECT_EQ(r->height(), 240u);
@@ -87,7 +87,7 @@ TEST(FormatsAedat4, DvxplorerSampleKnownAnswers)
 
 TEST(FormatsAedat4, Davis346SampleKnownAnswers)
 {
-  auto r = openEventFile(sample(kDavis));
+  auto r = openEventFileReader(sample(kDavis));
   EXPECT_EQ(r->width(), 346u);
   EXPECT_EQ(r->height(), 260u);
   EXPECT_EQ(r->expectedEvents(), 117667);
@@ -111,7 +111,7 @@ TEST(FormatsAedat4, ScanWithoutTheDataTableGivesTheSameEvents)
   // A copy whose dataTablePosition says "none" (-1): the packets are scanned (and the table
   // bytes at the end are then read as a truncated packet).
   std::vector<uint8_t> b = readBytes(sample(kDvx));
-  const EventVector all = openEventFile(sample(kDvx))->readAll();
+  const EventVector all = openEventFileReader(sample(kDvx))->readAll();
   // The sample's IOHeader: field 1 (dataTablePosition) of the root table, found by hand.
   int64_t want = 945243;
   size_t at = 0;
@@ -124,7 +124,7 @@ TEST(FormatsAedat4, ScanWithoutTheDataTableGivesTheSameEvents)
   b.resize(945243);  // drop the table: an interrupted recording
   TempFile f(".aedat4");
   f.write(b);
-  auto r = openEventFile(f.path());
+  auto r = openEventFileReader(f.path());
   EXPECT_EQ(r->expectedEvents(), -1);
   EXPECT_EQ(r->readAll(), all);
   EXPECT_FALSE(r->stats().truncated);
@@ -135,11 +135,11 @@ TEST(FormatsAedat4, TruncatedSampleDeliversEveryCompletePacket)
 {
   // Cut the sample in the middle of its packets (the data table is lost with the tail).
   const std::vector<uint8_t> b = readBytes(sample(kDvx));
-  const EventVector all = openEventFile(sample(kDvx))->readAll();
+  const EventVector all = openEventFileReader(sample(kDvx))->readAll();
   const size_t cut = 500000;
   TempFile f(".aedat4");
   f.write(b.data(), cut);
-  auto r = openEventFile(f.path());
+  auto r = openEventFileReader(f.path());
   const EventVector part = r->readAll();
   ASSERT_GT(part.size(), 10000u);
   ASSERT_LT(part.size(), all.size());
@@ -168,7 +168,7 @@ TEST(FormatsAedat4, RoundTripEveryCompression)
   {
     TempFile f(".aedat4");
     writeAedat4(f.path(), ev, 346, 260, c, 4096);
-    auto r = openEventFile(f.path());
+    auto r = openEventFileReader(f.path());
     EXPECT_EQ(r->formatName(), std::string("AEDAT 4.0 (") + formats::aedat4CompressionName(c) + ")");
     EXPECT_EQ(r->width(), 346u);
     EXPECT_EQ(r->height(), 260u);
@@ -182,7 +182,7 @@ TEST(FormatsAedat4, RoundTripEveryCompression)
     b.resize(size_t(table));
     TempFile g(".aedat4");
     g.write(b);
-    EXPECT_EQ(openEventFile(g.path())->readAll(), ev) << formats::aedat4CompressionName(c) << " without table";
+    EXPECT_EQ(openEventFileReader(g.path())->readAll(), ev) << formats::aedat4CompressionName(c) << " without table";
   }
 }
 
@@ -190,15 +190,15 @@ TEST(FormatsAedat4, RoundTripOfTheRealSamplesThroughBothWriters)
 {
   for (const std::string& name : {kDvx, kDavis})
   {
-    auto in = openEventFile(sample(name));
+    auto in = openEventFileReader(sample(name));
     const EventVector all = in->readAll();
     TempFile a(".aedat4"), raw(".raw");
     writeAedat4(a.path(), all, in->width(), in->height(), Aedat4Compression::Lz4, 10000);
-    EXPECT_EQ(openEventFile(a.path())->readAll(), all) << name;
+    EXPECT_EQ(openEventFileReader(a.path())->readAll(), all) << name;
     formats::Evt3Writer w(raw.path(), in->width(), in->height());  // epoch times: offset key
     w.write(all);
     w.close();
-    auto r = openEventFile(raw.path());
+    auto r = openEventFileReader(raw.path());
     EXPECT_EQ(r->width(), in->width());
     EXPECT_EQ(r->readAll(), all) << name << " via EVT 3.0";
   }
@@ -208,7 +208,7 @@ TEST(FormatsAedat4, EmptyFileHasNoEvents)
 {
   TempFile f(".aedat4");
   writeAedat4(f.path(), {}, 128, 128, Aedat4Compression::Lz4);
-  auto r = openEventFile(f.path());
+  auto r = openEventFileReader(f.path());
   EventVector out;
   EXPECT_FALSE(r->read(out, 100));
   EXPECT_TRUE(out.empty());
@@ -227,7 +227,7 @@ TEST(FormatsAedat4, UnsupportedVersionAndCompressionAreNamed)
   g.write(c);
   try
   {
-    openEventFile(g.path());
+    openEventFileReader(g.path());
     FAIL() << "compression 7 accepted";
   }
   catch (const EventFormatError& e)
@@ -239,7 +239,7 @@ TEST(FormatsAedat4, UnsupportedVersionAndCompressionAreNamed)
   g.write(c);
   try
   {
-    openEventFile(g.path());
+    openEventFileReader(g.path());
     FAIL() << "version 4.5 accepted";
   }
   catch (const EventFormatError& e)
@@ -268,7 +268,7 @@ TEST(FormatsAedat4, DamagedAndUnknownPacketsAreSkippedAndCounted)
   b[p1 + 8] ^= 0xFF;
   TempFile g(".aedat4");
   g.write(b);
-  auto r = openEventFile(g.path());
+  auto r = openEventFileReader(g.path());
   const EventVector got = r->readAll();
   EXPECT_EQ(got, EventVector(ev.begin() + 1000, ev.end()));
   const ReaderStats s = r->stats();
@@ -288,7 +288,7 @@ TEST(FormatsAedat4, ImuSamplesOfTheRealSamples)
   } cases[] = {{kDvx, 475}, {kDavis, 130}};
   for (const auto& c : cases)
   {
-    auto r = openEventFile(sample(c.name));
+    auto r = openEventFileReader(sample(c.name));
     std::vector<ImuSample> imu;
     EventVector batch, all;
     while (r->read(batch, 10000))

@@ -35,7 +35,7 @@ TEST(FormatsRaw, DetectsFromTheFirstBytesNotTheName)
   EXPECT_EQ(detectEventFormat(sample("dvxplorer_320x240.aedat4")), EventFormat::Aedat4);
   TempFile misnamed(".aedat4");
   misnamed.write(readBytes(sample(kEvt3)));
-  auto r = openEventFile(misnamed.path());
+  auto r = openEventFileReader(misnamed.path());
   EXPECT_EQ(r->formatName(), "Prophesee RAW EVT 3.0");
   EXPECT_EQ(detectEventFormat(reinterpret_cast<const uint8_t*>("#ROSBAG V2.0\n"), 13), EventFormat::RosBag1);
   EXPECT_EQ(detectEventFormat(reinterpret_cast<const uint8_t*>("\x89HDF\r\n\x1a\n"), 8), EventFormat::Hdf5);
@@ -45,7 +45,7 @@ TEST(FormatsRaw, DetectsFromTheFirstBytesNotTheName)
   hdf.write(reinterpret_cast<const uint8_t*>("\x89HDF\r\n\x1a\n\0\0\0\0"), 12);
   try
   {
-    openEventFile(hdf.path());
+    openEventFileReader(hdf.path());
     ADD_FAILURE() << "HDF5 accepted";
   }
   catch (const EventFormatError& e)
@@ -54,13 +54,13 @@ TEST(FormatsRaw, DetectsFromTheFirstBytesNotTheName)
   }
   TempFile junk(".raw");
   junk.write(std::vector<uint8_t>{1, 2, 3, 4, 5});
-  EXPECT_THROW(openEventFile(junk.path()), EventFormatError);
-  EXPECT_THROW(openEventFile("/nonexistent/file.raw"), EventFormatError);
+  EXPECT_THROW(openEventFileReader(junk.path()), EventFormatError);
+  EXPECT_THROW(openEventFileReader("/nonexistent/file.raw"), EventFormatError);
 }
 
 TEST(FormatsRaw, Evt3SampleKnownAnswers)
 {
-  auto r = openEventFile(sample(kEvt3));
+  auto r = openEventFileReader(sample(kEvt3));
   EXPECT_EQ(r->formatName(), "Prophesee RAW EVT 3.0");
   EXPECT_EQ(r->width(), 1280u);  // from system_ID 48
   EXPECT_EQ(r->height(), 720u);
@@ -89,7 +89,7 @@ TEST(FormatsRaw, Evt3SampleKnownAnswers)
 
 TEST(FormatsRaw, Evt2SampleKnownAnswers)
 {
-  auto r = openEventFile(sample(kEvt2));
+  auto r = openEventFileReader(sample(kEvt2));
   EXPECT_EQ(r->formatName(), "Prophesee RAW EVT 2.0");
   EXPECT_EQ(r->width(), 640u);  // from system_ID 21
   EXPECT_EQ(r->height(), 480u);
@@ -111,10 +111,10 @@ TEST(FormatsRaw, Evt2SampleKnownAnswers)
 
 TEST(FormatsRaw, BatchSizeDoesNotChangeTheEvents)
 {
-  const EventVector all = openEventFile(sample(kEvt3))->readAll();
+  const EventVector all = openEventFileReader(sample(kEvt3))->readAll();
   for (size_t batch : {size_t(1), size_t(7), size_t(1000), size_t(65536)})
   {
-    auto r = openEventFile(sample(kEvt3));
+    auto r = openEventFileReader(sample(kEvt3));
     EXPECT_EQ(readInBatches(*r, batch), all) << "batch " << batch;
   }
 }
@@ -124,7 +124,7 @@ TEST(FormatsRaw, DecoderStateCarriesAcrossArbitraryPieces)
   // Feeding the words in pieces of any size (e.g. message payloads) gives the same events.
   const std::vector<uint8_t> bytes = readBytes(sample(kEvt3));
   const size_t start = 166, n_words = (bytes.size() - start) / 2;
-  const EventVector all = openEventFile(sample(kEvt3))->readAll();
+  const EventVector all = openEventFileReader(sample(kEvt3))->readAll();
   formats::Evt3Decoder dec(1280, 720);
   ReaderStats st;
   EventVector out(all.size() + 64);
@@ -168,7 +168,7 @@ TEST(FormatsRaw, UnsupportedVersionIsNamed)
   f.write(rawFile("% format EVT21;height=720;width=1280\n% end\n", {0x8000}));
   try
   {
-    openEventFile(f.path());
+    openEventFileReader(f.path());
     FAIL() << "EVT 2.1 accepted";
   }
   catch (const EventFormatError& e)
@@ -176,11 +176,11 @@ TEST(FormatsRaw, UnsupportedVersionIsNamed)
     EXPECT_NE(std::string(e.what()).find("'EVT21' is not supported"), std::string::npos) << e.what();
   }
   f.write(rawFile("% evt 4.0\n", {0x8000}));
-  EXPECT_THROW(openEventFile(f.path()), EventFormatError);
+  EXPECT_THROW(openEventFileReader(f.path()), EventFormatError);
   f.write(rawFile("% format EVT3\n% endianness big\n", {0x8000}));
   try
   {
-    openEventFile(f.path());
+    openEventFileReader(f.path());
     FAIL() << "big endian accepted";
   }
   catch (const EventFormatError& e)
@@ -212,7 +212,7 @@ TEST(FormatsRaw, Evt3HandBuiltWordsVectorsTriggersWrapsAndUnknownWords)
                       0x6005, 0x0063,   // TIME_LOW 5, ADDR_Y 99
                       0x2801,           // ON at (1, 99)
                   }));
-  auto r = openEventFile(f.path());
+  auto r = openEventFileReader(f.path());
   EXPECT_EQ(r->width(), 40u);
   EXPECT_EQ(r->height(), 100u);
   const EventVector e = r->readAll();
@@ -258,7 +258,7 @@ TEST(FormatsRaw, Evt2HandBuiltWordsWrapTriggerUnknown)
   b.push_back(0xEF);
   TempFile f(".raw");
   f.write(b);
-  auto r = openEventFile(f.path());
+  auto r = openEventFileReader(f.path());
   const EventVector e = r->readAll();
   const int64_t th = (int64_t(1) << 28) - 1;
   EXPECT_EQ(e, (EventVector{ev(3, 4, th * 64 + 5, 1), ev(63, 47, (int64_t(1) << 34) + 64 + 63, 0)}));
@@ -282,7 +282,7 @@ TEST(FormatsRaw, TruncatedEvt3SampleDeliversEverythingBeforeTheDamage)
   const size_t cut = 166 + 2 * 150000 + 1;
   TempFile f(".raw");
   f.write(bytes.data(), cut);
-  auto r = openEventFile(f.path());
+  auto r = openEventFileReader(f.path());
   const EventVector part = r->readAll();
   // Reference: the decoder over the first 150000 complete words.
   formats::Evt3Decoder dec(1280, 720);
@@ -304,14 +304,14 @@ TEST(FormatsRaw, TruncatedEvt3SampleDeliversEverythingBeforeTheDamage)
 TEST(FormatsRaw, Evt3WriterRoundTripOfTheSample)
 {
   // The sample holds TIME_LOW back steps: they must survive the round trip.
-  const EventVector all = openEventFile(sample(kEvt3))->readAll();
+  const EventVector all = openEventFileReader(sample(kEvt3))->readAll();
   TempFile f(".raw");
   {
     formats::Evt3Writer w(f.path(), 1280, 720);
     w.write(all);
     w.close();
   }
-  auto r = openEventFile(f.path());
+  auto r = openEventFileReader(f.path());
   EXPECT_EQ(r->formatName(), "Prophesee RAW EVT 3.0");
   EXPECT_EQ(r->width(), 1280u);
   EXPECT_EQ(r->height(), 720u);
@@ -337,7 +337,7 @@ TEST(FormatsRaw, Evt3WriterRoundTripAcrossWrapsAndEpochTimes)
     formats::Evt3Writer w(f.path(), 2048, 2048);
     w.write(ev);
     w.close();
-    auto r = openEventFile(f.path());
+    auto r = openEventFileReader(f.path());
     EXPECT_EQ(r->readAll(), ev) << "origin " << origin_us;
     EXPECT_GT(r->stats().time_wraps, 0u);
   }

@@ -128,7 +128,7 @@ private:
 };
 }  // namespace
 
-std::unique_ptr<EventFileReader> openEventFile(const std::string& path)
+std::unique_ptr<EventFileReader> openEventFileReader(const std::string& path)
 {
   const EventFormat f = detectEventFormat(path);
   switch (f)
@@ -155,7 +155,7 @@ std::unique_ptr<EventFileReader> openEventFile(const std::string& path)
     case EventFormat::RosBag1:
     case EventFormat::Hdf5:
     case EventFormat::Sqlite:
-      throw EventFormatError(path + ": " + eventFormatName(f) + " files are not read by openEventFile" +
+      throw EventFormatError(path + ": " + eventFormatName(f) + " files are not read by openEventFileReader" +
                              (f == EventFormat::RosBag1 ? " (dvs_msgs bags: event_bag_io.h)" : ""));
     default:
       throw EventFormatError(path + ": unknown event file format (not AEDAT 2.0/3.1/4.0 or Prophesee RAW by its "

@@ -38,7 +38,7 @@ double decodeOnce(const std::string& path, size_t repeats, uint64_t& events, std
   events = 0;
   for (size_t r = 0; r < repeats; ++r)
   {
-    auto reader = openEventFile(path);
+    auto reader = openEventFileReader(path);
     name = reader->formatName();
     for (;;)
     {
@@ -97,7 +97,7 @@ int main(int argc, char** argv)
       bench(path, label);
       if (detectEventFormat(path) == EventFormat::Aedat4)
       {
-        auto in = openEventFile(path);
+        auto in = openEventFileReader(path);
         const EventVector all = in->readAll();
         const std::string copy = "/tmp/benchmark_formats_" + std::to_string(::getpid()) + ".aedat4";
         formats::Aedat4WriterOptions o;

@@ -29,7 +29,7 @@ enum class EventFormat
   Aedat3,     ///< `#!AER-DAT3.x`
   Aedat4,     ///< `#!AER-DAT4.0`
   PropheseeRaw,  ///< `% ` header lines (EVT 2.0 / 3.0 chosen by the header)
-  RosBag1,       ///< `#ROSBAG V2.0` (read by event_bag_io.h, not by openEventFile)
+  RosBag1,       ///< `#ROSBAG V2.0` (read by event_bag_io.h, not by openEventFileReader)
   Hdf5,          ///< HDF5 signature (not read yet)
   Sqlite         ///< `SQLite format 3` (e.g. a ROS 2 bag; not read)
 };
@@ -126,5 +126,5 @@ public:
 /// reads the whole file first). Throws EventFormatError naming the file and the problem (unknown
 /// format, a detected format this function does not read, unsupported version / compression,
 /// bad header). Text files (events.txt) have no signature: they come back as unknown.
-std::unique_ptr<EventFileReader> openEventFile(const std::string& path);
+std::unique_ptr<EventFileReader> openEventFileReader(const std::string& path);
 }  // namespace dvs_driver
