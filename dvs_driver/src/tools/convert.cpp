@@ -149,14 +149,16 @@ int main(int argc, char** argv)
     if (found.outside_sensor > 0)
     {
       const dvs_driver::Event& e = s.events[first_outside];
-      throw dvs_driver::EventFileError(input + ": " + num(found.outside_sensor) + " events lie outside the " +
+      throw dvs_driver::EventFileError(input + ": " + num(found.outside_sensor) +
+                                       (found.outside_sensor == 1 ? " event lies" : " events lie") + " outside the " +
                                        std::to_string(s.width) + "x" + std::to_string(s.height) +
                                        " sensor (the first, event " + num(first_outside) + ", at pixel (" +
                                        std::to_string(e.x) + ", " + std::to_string(e.y) + "))");
     }
     if (found.backwards > 0)
       throw dvs_driver::EventFileError(
-          input + ": time goes backwards at " + num(found.backwards) + " events (by up to " +
+          input + ": time goes backwards at " + num(found.backwards) + (found.backwards == 1 ? " event" : " events") +
+          " (by up to " +
           std::to_string(found.max_backwards_ns * 1e-9) + " s; the first at event " + num(first_backwards) +
           ", t = " + std::to_string(s.events[first_backwards].t_ns * 1e-9) +
           " s): events.txt and bags need events in time order");
