@@ -335,3 +335,30 @@ TEST(ConvertTool, OptionsAreCheckedByName)
   }
   std::remove(tmp("opt.txt").c_str());
 }
+
+TEST(ConvertTool, AnInputThatCannotFitInMemoryIsRefusedUpFront)
+{
+  // A sparse AEDAT file as large as the memory available (it would need 3 times that).
+  uint64_t avail_kb = 0;
+  {
+    FILE* f = std::fopen("/proc/meminfo", "r");
+    ASSERT_NE(nullptr, f);
+    char key[64];
+    unsigned long long v;
+    while (std::fscanf(f, "%63s %llu kB", key, &v) == 2)
+      if (std::string(key) == "MemAvailable:")
+        avail_kb = v;
+    std::fclose(f);
+  }
+  ASSERT_GT(avail_kb, 0u);
+  const std::string in = tmp("huge.aedat");
+  FILE* f = std::fopen(in.c_str(), "w");
+  ASSERT_NE(nullptr, f);
+  std::fclose(f);
+  ASSERT_EQ(0, ::truncate(in.c_str(), static_cast<off_t>(avail_kb * 1024)));
+  const ToolRun r = run("--input " + in + " --output " + tmp("huge.txt"));
+  EXPECT_EQ(1, r.status) << r.out;
+  EXPECT_NE(std::string::npos, r.out.find(in + ": converting it needs up to ")) << r.out;
+  EXPECT_NE(std::string::npos, r.out.find("MiB are available")) << r.out;
+  std::remove(in.c_str());
+}

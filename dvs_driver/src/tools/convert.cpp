@@ -13,8 +13,11 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <fstream>
 #include <iostream>
+#include <stdexcept>
 #include <string>
+#include <sys/stat.h>
 
 namespace
 {
@@ -82,6 +85,48 @@ std::string num(unsigned long long v)
 {
   return std::to_string(v);
 }
+
+// MemAvailable of /proc/meminfo in bytes (0 when unknown).
+uint64_t availableMemory()
+{
+  std::ifstream in("/proc/meminfo");
+  std::string key;
+  uint64_t kb = 0;
+  std::string unit;
+  while (in >> key >> kb >> unit)
+    if (key == "MemAvailable:")
+      return kb * 1024;
+  return 0;
+}
+
+// convert holds the whole recording: refuse up front, with the estimate, an input whose events
+// would not fit in the memory available (at most one event per 8-byte AEDAT record, per 13-byte
+// bag event, per 18-byte events.txt line; 16 bytes per event, plus the AEDAT file's bytes).
+void checkMemory(const std::string& input)
+{
+  struct stat st;
+  if (::stat(input.c_str(), &st) != 0 || !S_ISREG(st.st_mode))
+    return;  // the reader names the problem
+  const uint64_t size = static_cast<uint64_t>(st.st_size);
+  uint64_t need = 0;
+  switch (dvs_driver::eventFileFormat(input))
+  {
+    case dvs_driver::EventFileFormat::Aedat:
+      need = size + size / 8 * 16;
+      break;
+    case dvs_driver::EventFileFormat::Bag:
+      need = size / 13 * 16;
+      break;
+    case dvs_driver::EventFileFormat::Text:
+      need = size / 18 * 16;
+      break;
+  }
+  const uint64_t avail = availableMemory();
+  if (avail > 0 && need > avail)
+    throw std::runtime_error(input + ": converting it needs up to " + num(need >> 20) + " MiB of memory (" +
+                             num(size >> 20) + " MiB file), only " + num(avail >> 20) +
+                             " MiB are available; convert a shorter piece");
+}
 }  // namespace
 
 int main(int argc, char** argv)
@@ -115,6 +160,7 @@ int main(int argc, char** argv)
 
   try
   {
+    checkMemory(input);
     dvs_driver::EventFileContents in;
     if (dvs_driver::eventFileFormat(input) == dvs_driver::EventFileFormat::Bag)
       in.stream = dvs_driver::readEventsBag(input, o.topic);
