@@ -89,6 +89,15 @@ size_t EventValidator::dropOutside(EventVector& events, size_t first)
   return dropped;
 }
 
+EventChecks validateStream(const EventStream& s, const EventChecks& repaired)
+{
+  EventValidator v(s.width, s.height);
+  v.check(s.events.data(), s.events.data() + s.events.size());
+  EventChecks c = v.checks();
+  c.merge(repaired);
+  return c;
+}
+
 void EventValidator::reset()
 {
   const uint32_t w = checks_.width, h = checks_.height;

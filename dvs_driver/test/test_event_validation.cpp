@@ -194,6 +194,12 @@ TEST(AedatValidation, BackwardsTimesAreClampedCountedAndReported)
   EXPECT_EQ(1u, c.outside_sensor);
   EXPECT_EQ(1u, rec.info.out_of_range);
   EXPECT_FALSE(c.clean());
+  // The whole-stream helper merges the reader's repairs with the events' own checks.
+  const EventChecks all = dvs_driver::validateStream(rec.stream, rec.info.checks);
+  EXPECT_EQ(6u, all.events);
+  EXPECT_EQ(2u, all.backwards);  // the reader's (the clamped events do not go back)
+  EXPECT_EQ(3u, all.clamped);
+  EXPECT_EQ(1u, all.outside_sensor);
   EXPECT_EQ("1 event outside the 128x128 sensor, 2 time stamps going backwards (by up to 1.5e-05 s), "
             "3 event times clamped to the time before them",
             c.summary());

@@ -135,4 +135,9 @@ private:
   Event recent_[kRecent];
   unsigned recent_n_ = 0, recent_next_ = 0;
 };
+
+/// A whole stream read at once (readEventsText, readEventsBag, readAedat(...).stream): its events
+/// checked against s.width x s.height (0: no outside check), merged with what the reader
+/// repaired or dropped itself (`repaired`: AedatInfo::checks; nothing for text and bags).
+EventChecks validateStream(const EventStream& s, const EventChecks& repaired = EventChecks());
 }  // namespace dvs_driver
