@@ -144,6 +144,12 @@ TEST(EventValidator, KnownAnswers)
   EXPECT_EQ((Event{150, 3, 3, true}), copy[4]);
   EXPECT_EQ(2u, d.checks().outside_sensor);
 
+  // Extreme times: the step back saturates instead of overflowing.
+  EventValidator x;
+  x.check(Event{INT64_MAX, 0, 0, true});
+  x.check(Event{INT64_MIN, 0, 0, true});
+  EXPECT_EQ(INT64_MAX, x.checks().max_backwards_ns);
+
   // Unknown sensor: no outside check. reset() forgets the previous event.
   EventValidator u;
   u.check(Event{5, 60000, 60000, true});

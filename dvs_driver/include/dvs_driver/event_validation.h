@@ -15,6 +15,7 @@
 #include <dvs_driver/event.h>
 
 #include <cstdint>
+#include <climits>
 #include <string>
 
 namespace dvs_driver
@@ -90,8 +91,11 @@ public:
     if (has_last_ && t_ns < last_t_)
     {
       ++checks_.backwards;
-      if (last_t_ - t_ns > checks_.max_backwards_ns)
-        checks_.max_backwards_ns = last_t_ - t_ns;
+      // The step in unsigned arithmetic: exact for any two int64 times (no signed overflow).
+      const uint64_t back = static_cast<uint64_t>(last_t_) - static_cast<uint64_t>(t_ns);
+      const int64_t step = back > static_cast<uint64_t>(INT64_MAX) ? INT64_MAX : static_cast<int64_t>(back);
+      if (step > checks_.max_backwards_ns)
+        checks_.max_backwards_ns = step;
     }
     has_last_ = true;
     last_t_ = t_ns;
