@@ -442,6 +442,11 @@ void DriverRos::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat)
       stat.summary(diagnostic_msgs::DiagnosticStatus::ERROR, "camera not connected: " + status_message_);
     else if (s.device.transfer_errors > 0)
       stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "streaming, with transfer errors");
+    else if (s.decoder.non_monotonic > 0 || builder_.stamps.clamped() > 0)
+      stat.summary(diagnostic_msgs::DiagnosticStatus::WARN,
+                   "streaming, with time stamps that went backwards (clamped: " +
+                       std::to_string(s.decoder.non_monotonic) + " device times, " +
+                       std::to_string(builder_.stamps.clamped()) + " stamps)");
     else
       stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "streaming");
   }
