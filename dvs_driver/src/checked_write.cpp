@@ -143,6 +143,15 @@ CheckedFileWriter::CheckedFileWriter(const std::string& path) : path_(path)
   do
     fd = ::open(open_path.c_str(), flags, 0666);
   while (fd < 0 && errno == EINTR);
+  if (fd < 0 && !target_.temporary.empty() && (errno == EACCES || errno == EPERM || errno == EROFS) &&
+      ::access(target_.target.c_str(), W_OK) == 0)
+  {
+    // A writable file in a folder where no temporary file can be made: written in place.
+    target_.temporary.clear();
+    do
+      fd = ::open(target_.target.c_str(), O_WRONLY | O_CLOEXEC | O_TRUNC);
+    while (fd < 0 && errno == EINTR);
+  }
   if (fd < 0)
   {
     const int err = errno;

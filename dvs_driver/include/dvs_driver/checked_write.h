@@ -7,7 +7,7 @@
 // commit(), so a failed write never leaves a half-written file under the real name (and never
 // destroys the old one). A symlink is followed (the temporary file goes beside its target). A
 // path that is not a regular file (a device such as /dev/stdout or /dev/null, a FIFO) is written
-// directly.
+// directly, and so is a writable file in a folder where no temporary file can be made.
 //
 // Usage:
 //   dvs_driver::writeFileChecked(path, text);                       // a whole string at once
