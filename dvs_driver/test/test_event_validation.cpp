@@ -227,7 +227,7 @@ TEST(AedatValidation, BackwardsTimesAreClampedCountedAndReported)
 
   // The driver's replay reports them (merged with its own checks) and warns.
   Collector col;
-  const EventChecks played = replay(dvs_driver::openEventFile(path), col);
+  const EventChecks played = replay(dvs_driver::openEventSource(path), col);
   EXPECT_EQ(6u, col.events.size());
   EXPECT_EQ(3u, played.clamped);
   EXPECT_EQ(2u, played.backwards);
@@ -301,7 +301,7 @@ TEST(ReplayValidation, DuplicatedLinesOfEventsTxtAreCounted)
         out << "0." << (100000 + i) << " " << (i % 100) << " 7 1\n";
   }
   Collector c;
-  const EventChecks k = replay(dvs_driver::openEventFile(path), c);
+  const EventChecks k = replay(dvs_driver::openEventSource(path), c);
   EXPECT_EQ(400u, c.events.size());  // kept
   EXPECT_EQ(200u, k.duplicates);
   EXPECT_FALSE(k.clean());
