@@ -289,6 +289,16 @@ TEST(ConvertTool, BagWithDecreasingTimesIsReported)
   std::remove(in.c_str());
 }
 
+TEST(ConvertTool, EventsOutsideAGivenSensorAreRefusedWithTheCount)
+{
+  const ToolRun r = run("--input " + kData + "/ucsd_alex_walking_again.aedat --output " + tmp("small.txt") +
+                        " --width 64 --height 64");
+  EXPECT_EQ(1, r.status) << r.out;
+  EXPECT_NE(std::string::npos, r.out.find("ucsd_alex_walking_again.aedat: ")) << r.out;
+  EXPECT_NE(std::string::npos, r.out.find(" events lie outside the 64x64 sensor (the first, event ")) << r.out;
+  std::remove(tmp("small.txt").c_str());
+}
+
 TEST(ConvertTool, DuplicatedLinesAreCounted)
 {
   const std::string in = tmp("dup.txt");

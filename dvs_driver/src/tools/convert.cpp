@@ -202,12 +202,12 @@ int main(int argc, char** argv)
                                        std::to_string(e.x) + ", " + std::to_string(e.y) + "))");
     }
     if (found.backwards > 0)
-      throw dvs_driver::EventFileError(
-          input + ": time goes backwards at " + num(found.backwards) + (found.backwards == 1 ? " event" : " events") +
-          " (by up to " +
-          std::to_string(found.max_backwards_ns * 1e-9) + " s; the first at event " + num(first_backwards) +
-          ", t = " + std::to_string(s.events[first_backwards].t_ns * 1e-9) +
-          " s): events.txt and bags need events in time order");
+      throw dvs_driver::EventFileError(input + ": time goes backwards at " + num(found.backwards) +
+                                       (found.backwards == 1 ? " event" : " events") + " (by up to " +
+                                       std::to_string(found.max_backwards_ns * 1e-9) + " s; the first at event " +
+                                       num(first_backwards) + ", t = " +
+                                       std::to_string(s.events[first_backwards].t_ns * 1e-9) +
+                                       " s): events.txt and bags need events in time order");
     dvs_driver::EventChecks checks = in.checks;
     checks.merge(found);
     if (!checks.clean())
