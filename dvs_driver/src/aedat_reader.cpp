@@ -136,6 +136,7 @@ struct AedatRecordDecoder
   int32_t last_raw = 0;
   int64_t last_t_us = INT64_MIN;
   bool first = true;
+  EventValidator raw;  // the file's times before clamping, clamps, records outside the sensor
 
   void decode(const uint8_t* records, uint64_t n, AedatInfo& info, uint32_t W, uint32_t H, EventVector& out)
   {
@@ -159,6 +160,7 @@ struct AedatRecordDecoder
         if (addr > 0xFFFFu)
         {
           ++info.out_of_range;
+          raw.countOutside();
           continue;
         }
         if (!decodeDvs128Address(addr, e.x, e.y, e.polarity))
@@ -187,6 +189,7 @@ struct AedatRecordDecoder
         if (raw_x >= W || y_up >= H)
         {
           ++info.out_of_range;
+          raw.countOutside();
           continue;
         }
         e.x = static_cast<uint16_t>(W - 1 - raw_x);
@@ -194,9 +197,11 @@ struct AedatRecordDecoder
         e.polarity = (addr >> 11) & 1u;
       }
       int64_t t_us = wrap_offset + ts;
+      raw.checkTime(t_us * 1000);
       if (t_us < last_t_us)
       {
         ++info.non_monotonic;
+        raw.countClamped();
         t_us = last_t_us;
       }
       last_t_us = t_us;
@@ -204,6 +209,7 @@ struct AedatRecordDecoder
       out.push_back(e);
       ++info.dvs_events;
     }
+    info.checks = raw.checks();
   }
 };
 
@@ -225,6 +231,7 @@ AedatRecording readAedat(const uint8_t* data, size_t size, const std::string& na
   setSensorSize(info, stream.width, stream.height);
   stream.events.reserve(info.records);
   AedatRecordDecoder decoder;
+  decoder.raw.setSensor(stream.width, stream.height);
   decoder.decode(records, info.records, info, stream.width, stream.height, stream.events);
   return rec;
 }
@@ -316,8 +323,10 @@ void AedatFileSource::rewind()
   in_.clear();
   in_.seekg(static_cast<std::streamoff>(aedat_.data_offset));
   *decoder_ = AedatRecordDecoder();
+  decoder_->raw.setSensor(info_.width, info_.height);
   next_record_ = 0;
   aedat_.dvs_events = aedat_.sync_events = aedat_.aps_samples = aedat_.imu_samples = 0;
   aedat_.out_of_range = aedat_.non_monotonic = aedat_.timestamp_wraps = 0;
+  aedat_.checks = decoder_->raw.checks();
 }
 }  // namespace dvs_driver

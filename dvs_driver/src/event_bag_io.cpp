@@ -1,3 +1,4 @@
+#include <dvs_driver/checked_bag.h>
 #include <dvs_driver/event_bag_io.h>
 #include <dvs_driver/event_file.h>
 
@@ -300,18 +301,18 @@ size_t writeEventsBag(rosbag::Bag& bag, const std::string& topic, const EventVec
   return written;
 }
 
+size_t writeEventsBag(CheckedBagWriter& bag, const std::string& topic, const EventVector& events, uint32_t width,
+                      uint32_t height, int64_t packet_period_ns, const std::string& frame_id)
+{
+  size_t n = 0;
+  bag.run([&](rosbag::Bag& b) { n = writeEventsBag(b, topic, events, width, height, packet_period_ns, frame_id); });
+  return n;
+}
+
 size_t writeEventsBag(const std::string& path, const std::string& topic, const EventStream& stream,
                       int64_t packet_period_ns, const std::string& frame_id)
 {
-  rosbag::Bag bag;
-  try
-  {
-    bag.open(path, rosbag::bagmode::Write);
-  }
-  catch (const rosbag::BagException& e)
-  {
-    throw EventBagError(path + ": cannot create bag: " + e.what());
-  }
+  CheckedBagWriter bag(path);  // throws BagWriteError naming the bag and the reason
   const size_t n = writeEventsBag(bag, topic, stream.events, stream.width, stream.height, packet_period_ns, frame_id);
   bag.close();
   return n;

@@ -38,6 +38,8 @@ EventFileContents readEventFile(const std::string& path)
       out.sensor_name = rec.info.sensor_name;
       out.skipped = rec.info.skippedRecords();
       out.truncated_bytes = rec.info.truncated_bytes;
+      out.checks = rec.info.checks;
+      out.aedat = rec.info;
       break;
     }
     case EventFileFormat::Text:

@@ -1,3 +1,4 @@
+#include <dvs_driver/checked_write.h>
 #include <dvs_driver/event_text_io.h>
 
 #include <cinttypes>
@@ -186,29 +187,40 @@ void TextFileSource::rewind()
   last_t_ = INT64_MIN;
 }
 
+namespace
+{
+// The line of one event into buf (no newline); returns its length.
+int formatEvent(const Event& e, char* buf, size_t size)
+{
+  const int64_t a = e.t_ns < 0 ? -e.t_ns : e.t_ns;
+  return std::snprintf(buf, size, "%s%" PRId64 ".%09" PRId64 " %u %u %d", e.t_ns < 0 ? "-" : "",
+                       static_cast<int64_t>(a / 1000000000), static_cast<int64_t>(a % 1000000000), e.x, e.y,
+                       e.polarity ? 1 : 0);
+}
+}  // namespace
+
 std::string formatEventLine(const Event& e)
 {
   char buf[64];
-  const int64_t a = e.t_ns < 0 ? -e.t_ns : e.t_ns;
-  std::snprintf(buf, sizeof(buf), "%s%" PRId64 ".%09" PRId64 " %u %u %d", e.t_ns < 0 ? "-" : "",
-                static_cast<int64_t>(a / 1000000000), static_cast<int64_t>(a % 1000000000), e.x, e.y, e.polarity ? 1 : 0);
+  formatEvent(e, buf, sizeof(buf));
   return buf;
 }
 
 void writeEventsText(std::ostream& out, const EventVector& events)
 {
+  char buf[64];
   for (const Event& e : events)
-    out << formatEventLine(e) << '\n';
+  {
+    const int n = formatEvent(e, buf, sizeof(buf) - 1);
+    buf[n] = '\n';
+    out.write(buf, n + 1);
+  }
 }
 
 void writeEventsText(const std::string& path, const EventVector& events)
 {
-  std::ofstream out(path);
-  if (!out)
-    throw EventFileError(path + ": cannot write events file: " + std::strerror(errno));
-  writeEventsText(out, events);
-  out.flush();
-  if (!out)
-    throw EventFileError(path + ": write failed");
+  CheckedFileWriter out(path);  // throws WriteError naming the file and the reason
+  writeEventsText(out.stream(), events);
+  out.commit();
 }
 }  // namespace dvs_driver

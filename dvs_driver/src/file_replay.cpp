@@ -27,6 +27,10 @@ FileReplay::~FileReplay()
 void FileReplay::start(EventInputListener& listener)
 {
   stopping_ = false;
+  if (options_.sensor_width > 0 && options_.sensor_height > 0)
+    validator_.setSensor(options_.sensor_width, options_.sensor_height);
+  else
+    validator_.setSensor(source_->info().width, source_->info().height);
   reader_ = std::thread(&FileReplay::readLoop, this);
   player_ = std::thread(&FileReplay::playLoop, this, std::ref(listener));
 }
@@ -118,10 +122,12 @@ void FileReplay::readLoop()
         {
           loop_offset += pass_last - pass_first + 1000000;  // 1 ms gap between loops
           pass_has_events = false;
+          earlier_passes_.merge(source_->checks());  // the source counts per pass
           source_->rewind();
           continue;
         }
         block.end = true;
+        block.checks = currentChecks();
         push(std::move(block));
         return;
       }
@@ -135,6 +141,8 @@ void FileReplay::readLoop()
       if (loop_offset != 0)
         for (Event& e : block.events)
           e.t_ns += loop_offset;
+      validator_.dropOutside(block.events);  // counted; backwards and duplicates counted, kept
+      block.checks = currentChecks();
       if (!error.empty())
       {
         block.error = error;
@@ -149,8 +157,42 @@ void FileReplay::readLoop()
   {
     Block block;
     block.error = e.what();
+    block.checks = currentChecks();
     push(std::move(block));
   }
+}
+
+EventChecks FileReplay::currentChecks() const
+{
+  EventChecks c = validator_.checks();
+  c.merge(earlier_passes_);
+  c.merge(source_->checks());
+  return c;
+}
+
+EventChecks FileReplay::checks() const
+{
+  std::lock_guard<std::mutex> lock(mutex_);
+  return played_checks_;
+}
+
+void FileReplay::reportChecks(EventInputListener& listener, const EventChecks& c, bool last)
+{
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    played_checks_ = c;
+  }
+  const bool grew = c.outside_sensor != reported_.outside_sensor || c.backwards != reported_.backwards ||
+                    c.clamped != reported_.clamped || c.duplicates != reported_.duplicates;
+  if (c.clean() || !grew)
+    return;
+  const auto now = std::chrono::steady_clock::now();
+  const bool first = reported_.clean();
+  if (!first && !last && now - last_report_ < std::chrono::seconds(5))
+    return;
+  reported_ = c;
+  last_report_ = now;
+  listener.onWarning(source_->info().name + ": " + c.summary() + (last ? " (in all)" : " (so far)"));
 }
 
 void FileReplay::deliver(EventInputListener& listener, EventVector& chunk)
@@ -194,12 +236,14 @@ void FileReplay::playLoop(EventInputListener& listener)
       }
       chunk.push_back(e);
     }
-    if (block.end || !block.error.empty())
+    const bool last = block.end || !block.error.empty();
+    if (last && !chunk.empty())
+      deliver(listener, chunk);
+    if (stopping_)
+      return;
+    reportChecks(listener, block.checks, last);
+    if (last)
     {
-      if (!chunk.empty())
-        deliver(listener, chunk);
-      if (stopping_)
-        return;
       if (block.error.empty())
         listener.onEndOfInput();
       else

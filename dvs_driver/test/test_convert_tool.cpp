@@ -3,11 +3,13 @@
 #include <dvs_driver/event_bag_io.h>
 #include <dvs_driver/event_text_io.h>
 #include <gtest/gtest.h>
+#include <rosbag/bag.h>
 
 #include <algorithm>
 #include <array>
 #include <cstdio>
 #include <string>
+#include <vector>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -145,4 +147,228 @@ TEST(ConvertTool, TextInputInfersSensorAndBadUsageFails)
   EXPECT_NE(std::string::npos, missing.out.find("/nonexistent.aedat")) << missing.out;
   std::remove(txt.c_str());
   std::remove(bag.c_str());
+}
+
+// ---- Bad input and faults (issue 19): named errors, non-zero exit, no abort, counters ----
+namespace
+{
+std::string fullLink(const std::string& name)
+{
+  const std::string p = tmp(name);
+  ::unlink(p.c_str());
+  EXPECT_EQ(0, ::symlink("/dev/full", p.c_str()));
+  return p;
+}
+
+void writeBytes(const std::string& path, const std::string& bytes)
+{
+  FILE* f = std::fopen(path.c_str(), "wb");
+  std::fwrite(bytes.data(), 1, bytes.size(), f);
+  std::fclose(f);
+}
+
+// AEDAT 2.0 with a DVS128 header and records {address, time in us}.
+std::string aedat(const std::vector<std::pair<uint32_t, int32_t>>& records)
+{
+  std::string b = "#!AER-DAT2.0\r\n# AEChip: ch.unizh.ini.jaer.chip.retina.DVS128\r\n";
+  for (const auto& r : records)
+    for (const uint32_t v : {r.first, static_cast<uint32_t>(r.second)})
+      for (int shift = 24; shift >= 0; shift -= 8)
+        b.push_back(static_cast<char>((v >> shift) & 0xFF));
+  return b;
+}
+}  // namespace
+
+TEST(ConvertTool, FullDiskAndMissingFolderAreNamedErrorsNotAborts)
+{
+  const std::string in = kData + "/ucsd_alex_walking_again.aedat";
+  for (const std::string name : {"full.txt", "full.bag"})
+  {
+    const std::string out = fullLink(name);
+    const ToolRun r = run("--input " + in + " --output " + out);
+    EXPECT_EQ(1, r.status) << r.out;  // an abort would be -1 (signal)
+    EXPECT_NE(std::string::npos, r.out.find("convert: " + out + ": write failed: No space left on device")) << r.out;
+    EXPECT_EQ(std::string::npos, r.out.find("\"events\"")) << r.out;  // no success line
+    std::remove(out.c_str());
+  }
+  // rosbag's own file on a full disk (its temporary file is the link).
+  const std::string bag = tmp("rosbag_full.bag");
+  const std::string link = fullLink("rosbag_full.bag.tmp");
+  const ToolRun b = run("--input " + in + " --output " + bag);
+  EXPECT_EQ(1, b.status) << b.out;
+  EXPECT_NE(std::string::npos, b.out.find("convert: " + bag + ": cannot create the bag: Error writing to file")) << b.out;
+  std::remove(link.c_str());
+  for (const std::string name : {"/no/such/folder/x.txt", "/no/such/folder/x.bag"})
+  {
+    const ToolRun m = run("--input " + in + " --output " + tmp("") + name);
+    EXPECT_EQ(1, m.status) << m.out;
+    EXPECT_NE(std::string::npos, m.out.find(tmp("") + name + ": cannot create the ")) << m.out;
+    EXPECT_NE(std::string::npos, m.out.find("does not exist")) << m.out;
+  }
+}
+
+TEST(ConvertTool, JsonHasTheInputChecks)
+{
+  const std::string out = tmp("walk_checks.txt");
+  const ToolRun r = run("--input " + kData + "/ucsd_alex_walking_again.aedat --output " + out);
+  ASSERT_EQ(0, r.status) << r.out;
+  // The recording holds 27 exact duplicates (0.14%: normal for a DVS128, no warning).
+  EXPECT_NE(std::string::npos,
+            r.out.find("\"records\":19182,\"skipped\":{\"sync\":0,\"aps\":0,\"imu\":0,\"out_of_range\":0},"
+                       "\"outside_sensor\":0,\"backwards\":0,\"max_backwards_s\":0.000000000,\"clamped\":0,"
+                       "\"duplicates\":27}"))
+      << r.out;
+  EXPECT_EQ(std::string::npos, r.out.find("warning")) << r.out;
+  std::remove(out.c_str());
+}
+
+TEST(ConvertTool, AedatBackwardsTimesAreCountedAndReported)
+{
+  auto addr = [](uint32_t x, uint32_t y) { return ((127 - y) << 8) | ((127 - x) << 1); };
+  const std::string in = tmp("back.aedat");
+  writeBytes(in, aedat({{addr(1, 1), 10}, {addr(2, 1), 20}, {addr(3, 1), 5}, {addr(4, 1), 6}, {addr(5, 1), 30}}));
+  const std::string out = tmp("back.txt");
+  const ToolRun r = run("--input " + in + " --output " + out);
+  ASSERT_EQ(0, r.status) << r.out;
+  EXPECT_NE(std::string::npos, r.out.find("\"events\":5,")) << r.out;
+  EXPECT_NE(std::string::npos, r.out.find("\"backwards\":1,\"max_backwards_s\":0.000015000,\"clamped\":2,")) << r.out;
+  EXPECT_NE(std::string::npos,
+            r.out.find("convert: warning: " + in + ": 1 time stamp going backwards (by up to 1.5e-05 s), "
+                       "2 event times clamped to the time before them"))
+      << r.out;
+  std::remove(in.c_str());
+  std::remove(out.c_str());
+}
+
+TEST(ConvertTool, GarbageAedatNamesWhatWasSkipped)
+{
+  std::vector<std::pair<uint32_t, int32_t>> records;
+  uint32_t x = 12345;
+  for (int i = 0; i < 1000; ++i)
+  {
+    x = x * 1103515245u + 12345u;
+    records.emplace_back(x | 0x10000u, static_cast<int32_t>(x >> 3));  // every address beyond 16 bits
+  }
+  const std::string in = tmp("garbage.aedat");
+  writeBytes(in, aedat(records));
+  const std::string out = tmp("garbage.txt");
+  const ToolRun r = run("--input " + in + " --output " + out);
+  ASSERT_EQ(0, r.status) << r.out;
+  EXPECT_NE(std::string::npos, r.out.find("\"events\":0,")) << r.out;
+  EXPECT_NE(std::string::npos, r.out.find("\"records\":1000,\"skipped\":{\"sync\":0,\"aps\":0,\"imu\":0,\"out_of_range\":1000}"))
+      << r.out;
+  EXPECT_NE(std::string::npos, r.out.find("\"outside_sensor\":1000,")) << r.out;
+  EXPECT_NE(std::string::npos,
+            r.out.find("convert: warning: " + in + ": 1000 records, 0 events; skipped: 1000 outside the DVS128 sensor"))
+      << r.out;
+  std::remove(in.c_str());
+  std::remove(out.c_str());
+}
+
+TEST(ConvertTool, BagWithDecreasingTimesIsReported)
+{
+  const std::string in = tmp("decreasing.bag");
+  {
+    rosbag::Bag bag(in, rosbag::bagmode::Write);
+    dvs_driver::EventStream a, b;
+    a.width = b.width = a.height = b.height = 128;
+    a.events = {{2000000000, 1, 1, true}, {2500000000, 2, 1, true}};
+    b.events = {{1000000000, 3, 1, true}};
+    bag.write("/dvs/events", ros::Time(10), *dvs_driver::toMessage(a));
+    bag.write("/dvs/events", ros::Time(11), *dvs_driver::toMessage(b));
+  }
+  for (const std::string name : {"dec.txt", "dec.bag"})
+  {
+    const ToolRun r = run("--input " + in + " --output " + tmp(name));
+    EXPECT_EQ(1, r.status) << r.out;
+    EXPECT_NE(std::string::npos, r.out.find(in + ": time goes backwards at 1 event (by up to 1.500000 s; the first at "
+                                                 "event 2, t = 1.000000 s)"))
+        << r.out;
+    EXPECT_EQ(std::string::npos, r.out.find("span_s")) << r.out;
+  }
+  std::remove(in.c_str());
+}
+
+TEST(ConvertTool, EventsOutsideAGivenSensorAreRefusedWithTheCount)
+{
+  const ToolRun r = run("--input " + kData + "/ucsd_alex_walking_again.aedat --output " + tmp("small.txt") +
+                        " --width 64 --height 64");
+  EXPECT_EQ(1, r.status) << r.out;
+  EXPECT_NE(std::string::npos, r.out.find("ucsd_alex_walking_again.aedat: ")) << r.out;
+  EXPECT_NE(std::string::npos, r.out.find(" events lie outside the 64x64 sensor (the first, event ")) << r.out;
+  std::remove(tmp("small.txt").c_str());
+}
+
+TEST(ConvertTool, DuplicatedLinesAreCounted)
+{
+  const std::string in = tmp("dup.txt");
+  {
+    FILE* f = std::fopen(in.c_str(), "w");
+    for (int i = 0; i < 50; ++i)
+      for (int k = 0; k < 2; ++k)
+        std::fprintf(f, "0.%06d %d 4 1\n", 100 + i, i);
+    std::fclose(f);
+  }
+  const ToolRun r = run("--input " + in + " --output " + tmp("dup_out.txt"));
+  ASSERT_EQ(0, r.status) << r.out;
+  EXPECT_NE(std::string::npos, r.out.find("\"events\":100,")) << r.out;
+  EXPECT_NE(std::string::npos, r.out.find("\"duplicates\":50}")) << r.out;
+  EXPECT_NE(std::string::npos, r.out.find("convert: warning: " + in + ": 50 exact duplicates (50% of 100 events)"))
+      << r.out;
+  std::remove(in.c_str());
+  std::remove(tmp("dup_out.txt").c_str());
+}
+
+TEST(ConvertTool, OptionsAreCheckedByName)
+{
+  const std::string io = "--input " + kData + "/ucsd_alex_walking_again.aedat --output " + tmp("opt.txt");
+  struct Case
+  {
+    std::string args, message;
+  } cases[] = {
+      {io + " --width abc --height 128", "convert: parameter '--width': 'abc' is not an integer"},
+      {io + " --width 100000 --height 128", "--width must be in [0, 65536] px (got 100000)"},
+      {io + " --width 128", "give both --width and --height, or neither"},
+      {io + " --packet-period 1e9", "--packet-period must be in [1e-06, 3600] s (got 1e+09)"},
+      {io + " --packet-period nan", "--packet-period must be in [1e-06, 3600] s (got nan)"},
+      {io + " --packet-period", "convert: option --packet-period needs a value"},
+      {io + " --topic /a --topic /b", "convert: option --topic given twice"},
+      {io + " --bogus", "convert: unknown option `--bogus`"},
+      {"--output x.txt", "--input and --output are required"},
+  };
+  for (const Case& c : cases)
+  {
+    const ToolRun r = run(c.args);
+    EXPECT_EQ(2, r.status) << c.args << "\n" << r.out;
+    EXPECT_NE(std::string::npos, r.out.find(c.message)) << c.args << "\n" << r.out;
+    EXPECT_NE(std::string::npos, r.out.find("usage: convert")) << r.out;
+  }
+  std::remove(tmp("opt.txt").c_str());
+}
+
+TEST(ConvertTool, AnInputThatCannotFitInMemoryIsRefusedUpFront)
+{
+  // A sparse AEDAT file as large as the memory available (it would need 3 times that).
+  uint64_t avail_kb = 0;
+  {
+    FILE* f = std::fopen("/proc/meminfo", "r");
+    ASSERT_NE(nullptr, f);
+    char key[64];
+    unsigned long long v;
+    while (std::fscanf(f, "%63s %llu kB", key, &v) == 2)
+      if (std::string(key) == "MemAvailable:")
+        avail_kb = v;
+    std::fclose(f);
+  }
+  ASSERT_GT(avail_kb, 0u);
+  const std::string in = tmp("huge.aedat");
+  FILE* f = std::fopen(in.c_str(), "w");
+  ASSERT_NE(nullptr, f);
+  std::fclose(f);
+  ASSERT_EQ(0, ::truncate(in.c_str(), static_cast<off_t>(avail_kb * 1024)));
+  const ToolRun r = run("--input " + in + " --output " + tmp("huge.txt"));
+  EXPECT_EQ(1, r.status) << r.out;
+  EXPECT_NE(std::string::npos, r.out.find(in + ": converting it needs up to ")) << r.out;
+  EXPECT_NE(std::string::npos, r.out.find("MiB are available")) << r.out;
+  std::remove(in.c_str());
 }

@@ -1,9 +1,15 @@
 // rostest: a bad parameter stops the driver with an error naming it, from the node (printed,
-// exit status 1) and from the nodelet (logged, loading fails); an unknown name is warned about.
+// exit status 1) and from the nodelet (logged, loading fails); an unknown name is warned about;
+// a recording with bad events (duplicated lines) is replayed with its counters in the driver's
+// diagnostics at WARN and a warning in the log.
 #include <gtest/gtest.h>
 #include <nodelet/loader.h>
 #include <ros/ros.h>
+#include <diagnostic_msgs/DiagnosticArray.h>
 #include <rosgraph_msgs/Log.h>
+
+#include <fstream>
+#include <unistd.h>
 
 #include <array>
 #include <condition_variable>
@@ -112,6 +118,56 @@ TEST(DriverBadParams, UnknownNameIsWarnedAboutAndDeprecatedAliasRead)
   EXPECT_TRUE(ros::param::get("/typo_nodelet/packet_period", period));  // what dynamic_reconfigure serves
   EXPECT_DOUBLE_EQ(0.005, period);
   loader.unload("/typo_nodelet");
+}
+
+TEST(DriverBadInput, ReplayCountersInDiagnosticsAtWarnAndALoggedWarning)
+{
+  const std::string path = "/tmp/dvs_driver_bad_input_" + std::to_string(::getpid()) + ".txt";
+  {
+    std::ofstream out(path);
+    for (int i = 0; i < 300; ++i)
+      for (int k = 0; k < 2; ++k)  // every line twice
+        out << "1." << (100000 + i) << " " << (i % 100) << " 7 1\n";
+  }
+  std::mutex m;
+  std::condition_variable cv;
+  diagnostic_msgs::DiagnosticStatus found;
+  bool have = false;
+  ros::NodeHandle nh;
+  ros::Subscriber log_sub = nh.subscribe("/rosout", 1000, rosoutCallback);
+  ros::Subscriber diag_sub = nh.subscribe<diagnostic_msgs::DiagnosticArray>(
+      "/diagnostics", 100, [&](const diagnostic_msgs::DiagnosticArray::ConstPtr& a) {
+        for (const auto& st : a->status)
+          if (st.name.find("DVS event stream") != std::string::npos && st.message.find("end of file") == 0)
+          {
+            std::lock_guard<std::mutex> lock(m);
+            found = st;
+            have = true;
+            cv.notify_all();
+          }
+      });
+  ros::param::set("/bad_input_nodelet/file", path);
+  ros::param::set("/bad_input_nodelet/replay_speed", 0.0);
+  nodelet::Loader loader(false);
+  ASSERT_TRUE(loadNodelet(loader, "/bad_input_nodelet"));
+  {
+    std::unique_lock<std::mutex> lock(m);
+    ASSERT_TRUE(cv.wait_for(lock, std::chrono::seconds(30), [&] { return have; }));
+  }
+  EXPECT_EQ(diagnostic_msgs::DiagnosticStatus::WARN, found.level);
+  EXPECT_NE(std::string::npos, found.message.find("input problems: 300 exact duplicates (50% of 600 events)"))
+      << found.message;
+  bool counter = false;
+  for (const auto& kv : found.values)
+    if (kv.key == "exact duplicate events")
+    {
+      counter = true;
+      EXPECT_EQ("300", kv.value);
+    }
+  EXPECT_TRUE(counter);
+  EXPECT_TRUE(waitForLog(path + ": 300 exact duplicates (50% of 600 events)"));
+  loader.unload("/bad_input_nodelet");
+  std::remove(path.c_str());
 }
 
 int main(int argc, char** argv)

@@ -45,6 +45,10 @@ struct AedatInfo
   uint64_t non_monotonic = 0;   ///< events whose time went backwards (kept, time clamped)
   uint64_t timestamp_wraps = 0; ///< int32 time stamp overflows unwrapped into 64 bits
   size_t truncated_bytes = 0;   ///< bytes of an incomplete last record (0 = not truncated)
+  /// What the reader repaired or dropped (event_validation.h): steps back in the file's times
+  /// before clamping (backwards, max_backwards_ns), clamped (= non_monotonic), outside_sensor
+  /// (= out_of_range). Duplicates among the events returned are for the consumer's validator.
+  EventChecks checks;
   /// Records not returned as events.
   uint64_t skippedRecords() const { return sync_events + aps_samples + imu_samples + out_of_range; }
 };
@@ -77,6 +81,8 @@ public:
   void rewind() override;
   /// Header facts and the counts of the records read so far (since the last rewind).
   const AedatInfo& aedatInfo() const { return aedat_; }
+  /// aedatInfo().checks.
+  EventChecks checks() const override { return aedat_.checks; }
 
 private:
   std::ifstream in_;

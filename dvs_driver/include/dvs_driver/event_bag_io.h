@@ -99,7 +99,15 @@ size_t writeEventsBag(rosbag::Bag& bag, const std::string& topic, const EventVec
                       uint32_t height, int64_t packet_period_ns = kDefaultPacketPeriodNs,
                       const std::string& frame_id = "dvs");
 
-/// Convenience: create (overwrite) `path` and write `stream` as above.
+class CheckedBagWriter;
+/// The same into a checked bag (checked_bag.h): rosbag errors become BagWriteError naming it.
+size_t writeEventsBag(CheckedBagWriter& bag, const std::string& topic, const EventVector& events, uint32_t width,
+                      uint32_t height, int64_t packet_period_ns = kDefaultPacketPeriodNs,
+                      const std::string& frame_id = "dvs");
+
+/// Convenience: create (overwrite) `path` and write `stream` as above, checked (CheckedBagWriter):
+/// a missing folder, a full disk, ... throw BagWriteError naming the bag and the reason, and no
+/// bag appears under `path` unless complete.
 size_t writeEventsBag(const std::string& path, const std::string& topic, const EventStream& stream,
                       int64_t packet_period_ns = kDefaultPacketPeriodNs, const std::string& frame_id = "dvs");
 }  // namespace dvs_driver

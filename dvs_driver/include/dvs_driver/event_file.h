@@ -24,6 +24,10 @@ struct EventFileContents
   std::string sensor_name;   ///< "DVS128", "DAVIS240", "DAVIS346" or "" (text files)
   uint64_t skipped = 0;      ///< records/words read but not returned as events
   size_t truncated_bytes = 0;
+  AedatInfo aedat;           ///< AEDAT files: what the reader found (skipped records by kind, ...)
+  /// What the reader repaired or dropped itself (AEDAT: clamped times, records outside the
+  /// sensor); validate the events for the rest (EventValidator).
+  EventChecks checks;
 };
 
 /// Read an AEDAT 2.0 or events.txt file (throws EventFileError / AedatError with a clear message;

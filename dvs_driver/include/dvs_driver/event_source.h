@@ -4,6 +4,7 @@
 // AedatFileSource (aedat_reader.h), TextFileSource (event_text_io.h), BagEventSource
 // (event_bag_io.h, library dvs_driver_ros), MemoryEventSource (below: events already in memory).
 #include <dvs_driver/event.h>
+#include <dvs_driver/event_validation.h>
 
 #include <memory>
 #include <string>
@@ -31,6 +32,11 @@ public:
   virtual size_t read(EventVector& out, size_t max_events) = 0;
   /// Start again at the first event.
   virtual void rewind() = 0;
+  /// What the source itself repaired or dropped before delivering (since the last rewind), which
+  /// a consumer cannot see in the events: e.g. AEDAT times clamped (with the steps back they
+  /// repaired) and records outside the sensor. Consumers validate the delivered events with an
+  /// EventValidator and merge these (FileReplay, convert). Default: nothing.
+  virtual EventChecks checks() const { return EventChecks(); }
 };
 
 /// Opens an AEDAT 2.0 (`.aedat`, `.dat`) or events.txt file (anything else) for streaming.

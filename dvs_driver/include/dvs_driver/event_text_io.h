@@ -47,7 +47,9 @@ private:
 /// Format one event as an events.txt line (no newline), time with 9 decimals.
 std::string formatEventLine(const Event& e);
 
-/// Write events as events.txt. Throws EventFileError when the file cannot be written.
+/// Write events as events.txt, checked (checked_write.h): throws WriteError naming the file and
+/// the OS reason when it cannot be written (missing folder, full disk, ...); the file appears
+/// under its name only when complete.
 void writeEventsText(const std::string& path, const EventVector& events);
 void writeEventsText(std::ostream& out, const EventVector& events);
 

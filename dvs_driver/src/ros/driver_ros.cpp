@@ -137,7 +137,10 @@ void DriverRos::openFile()
   fo.loop = params_.replay_loop;
   fo.chunk_period_ns = std::min<int64_t>(builder_.policy.period_ns, 100000);
   fo.queue_events = static_cast<size_t>(params_.replay_queue_events);
-  input_.reset(new FileReplay(std::move(source), fo));
+  fo.sensor_width = width_;  // events outside are dropped and counted (diagnostics)
+  fo.sensor_height = height_;
+  replay_ = new FileReplay(std::move(source), fo);
+  input_.reset(replay_);
 }
 
 void DriverRos::openCamera()
@@ -439,12 +442,31 @@ void DriverRos::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat)
       stat.summary(diagnostic_msgs::DiagnosticStatus::ERROR, "camera not connected: " + status_message_);
     else if (s.device.transfer_errors > 0)
       stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "streaming, with transfer errors");
+    else if (s.decoder.non_monotonic > 0 || builder_.stamps.clamped() > 0)
+      stat.summary(diagnostic_msgs::DiagnosticStatus::WARN,
+                   "streaming, with time stamps that went backwards (clamped: " +
+                       std::to_string(s.decoder.non_monotonic) + " device times, " +
+                       std::to_string(builder_.stamps.clamped()) + " stamps)");
     else
       stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "streaming");
   }
-  else if (!input_error_.empty())
-    stat.summary(diagnostic_msgs::DiagnosticStatus::ERROR, "replay stopped: " + input_error_);
   else
-    stat.summary(diagnostic_msgs::DiagnosticStatus::OK, end_of_input_ ? "end of file" : "replaying");
+  {
+    // The recording's validation (FileReplay::checks): WARN while anything was dropped,
+    // repaired or is suspect.
+    const EventChecks c = replay_ ? replay_->checks() : EventChecks();
+    stat.add("events outside the sensor (dropped)", c.outside_sensor);
+    stat.add("time stamps going backwards", c.backwards);
+    stat.add("largest step back [s]", c.max_backwards_ns * 1e-9);
+    stat.add("event times clamped (file)", c.clamped);
+    stat.add("exact duplicate events", c.duplicates);
+    const std::string state = end_of_input_ ? "end of file" : "replaying";
+    if (!input_error_.empty())
+      stat.summary(diagnostic_msgs::DiagnosticStatus::ERROR, "replay stopped: " + input_error_);
+    else if (!c.clean())
+      stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, state + ", input problems: " + c.summary());
+    else
+      stat.summary(diagnostic_msgs::DiagnosticStatus::OK, state);
+  }
 }
 }  // namespace dvs_driver

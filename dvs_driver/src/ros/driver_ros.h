@@ -24,6 +24,7 @@
 namespace dvs_driver
 {
 class DeviceInput;
+class FileReplay;
 
 class DriverRos : private EventInputListener
 {
@@ -77,6 +78,7 @@ private:
 
   std::unique_ptr<EventInput> input_;
   DeviceInput* device_input_ = nullptr;  // input_ when it is the camera
+  FileReplay* replay_ = nullptr;         // input_ when it is a recording
 
   std::mutex mutex_;  // everything below
   PacketBuilder builder_;

@@ -3,17 +3,53 @@
 // IN: .aedat (2.0), events.txt (or a .bag with dvs_msgs/EventArray); OUT: events.txt or .bag
 // (topic /dvs/events, 1 ms packets). Prints a one-line JSON summary on stdout:
 // {"events":N,"span_s":S,"width":W,"height":H,"sensor":"DVS128","skipped_words":K,...}
+// Bad input: a message naming the file and the problem, exit status 1; bad usage: status 2.
+#include <dvs_driver/checked_write.h>
+#include <dvs_driver/command_line.h>
 #include <dvs_driver/event_bag_io.h>
 #include <dvs_driver/event_file.h>
 #include <dvs_driver/event_text_io.h>
+#include <dvs_driver/event_validation.h>
 
 #include <cstdio>
 #include <cstdlib>
+#include <fstream>
 #include <iostream>
+#include <stdexcept>
 #include <string>
+#include <sys/stat.h>
 
 namespace
 {
+struct Options
+{
+  std::string input, output, topic = dvs_driver::kDefaultEventTopic;
+  double period_s = 0.001, period_ms = 1.0;
+  int width = 0, height = 0;
+  bool zero_time = false;
+};
+
+// The options, their units and limits: parsed and checked by dvs_driver::parseCommandLine.
+dvs_driver::ParamTable optionTable(Options& o)
+{
+  dvs_driver::ParamTable t("convert");
+  t.add("--input", o.input, {}, "the recording: .aedat (AEDAT 2.0), events.txt or .bag");
+  t.add("--output", o.output, {}, "events.txt (any name not ending in .bag) or .bag");
+  t.add("--topic", o.topic, {}, "bag topic");
+  t.add("--packet-period", o.period_s, "s", 1e-6, 3600, "bag packet period");
+  t.add("--packet-period-ms", o.period_ms, "ms", 1e-3, 3.6e6, "deprecated: the bag packet period in milliseconds");
+  t.add("--width", o.width, "px", 0, 65536, "sensor width; 0 = from the file");
+  t.add("--height", o.height, "px", 0, 65536, "sensor height; 0 = from the file");
+  t.add("--zero-time", o.zero_time, "shift times so that the first event is at t = 0");
+  t.addRule([&o] {
+    return (o.width > 0) != (o.height > 0) ? "give both --width and --height, or neither" : "";
+  });
+  t.addRule([&o] {
+    return o.input.empty() || o.output.empty() ? "--input and --output are required" : "";
+  });
+  return t;
+}
+
 void usage(std::ostream& os)
 {
   os << "usage: convert --input IN --output OUT [options]\n"
@@ -21,13 +57,14 @@ void usage(std::ostream& os)
         "  OUT  events.txt (any name not ending in .bag) or .bag (dvs_msgs/EventArray packets)\n"
         "options:\n"
         "  --topic T               bag topic (default /dvs/events)\n"
-        "  --packet-period S       bag packet period in seconds (default 0.001)\n"
+        "  --packet-period S       bag packet period in seconds (default 0.001, 1e-6 to 3600)\n"
         "  --packet-period-ms P    deprecated: the same in milliseconds\n"
-        "  --width W --height H    sensor size (default: from the file, else the smallest known\n"
-        "                          sensor holding every event)\n"
+        "  --width W --height H    sensor size, 1 to 65536 (default: from the file, else the\n"
+        "                          smallest known sensor holding every event)\n"
         "  --zero-time             shift times so the first event is at t = 0 (needed to write\n"
         "                          negative AEDAT time stamps into a bag)\n"
-        "Prints one JSON line: events, span_s, width, height, sensor, skipped_words.\n";
+        "Prints one JSON line: events, span_s, width, height, sensor, skipped_words, ..., and the\n"
+        "input checks (outside_sensor, backwards, max_backwards_s, clamped, duplicates).\n";
 }
 
 std::string jsonString(const std::string& s)
@@ -44,104 +81,96 @@ std::string jsonString(const std::string& s)
   return o + "\"";
 }
 
-bool parsePositive(const char* s, double& v)
+std::string num(unsigned long long v)
 {
-  char* end = nullptr;
-  v = std::strtod(s, &end);
-  return end && *end == '\0' && v > 0;
+  return std::to_string(v);
+}
+
+// MemAvailable of /proc/meminfo in bytes (0 when unknown).
+uint64_t availableMemory()
+{
+  std::ifstream in("/proc/meminfo");
+  std::string key;
+  uint64_t kb = 0;
+  std::string unit;
+  while (in >> key >> kb >> unit)
+    if (key == "MemAvailable:")
+      return kb * 1024;
+  return 0;
+}
+
+// convert holds the whole recording: refuse up front, with the estimate, an input whose events
+// would not fit in the memory available (at most one event per 8-byte AEDAT record, per 13-byte
+// bag event, per 18-byte events.txt line; 16 bytes per event, plus the AEDAT file's bytes).
+void checkMemory(const std::string& input)
+{
+  struct stat st;
+  if (::stat(input.c_str(), &st) != 0 || !S_ISREG(st.st_mode))
+    return;  // the reader names the problem
+  const uint64_t size = static_cast<uint64_t>(st.st_size);
+  uint64_t need = 0;
+  switch (dvs_driver::eventFileFormat(input))
+  {
+    case dvs_driver::EventFileFormat::Aedat:
+      need = size + size / 8 * 16;
+      break;
+    case dvs_driver::EventFileFormat::Bag:
+      need = size / 13 * 16;
+      break;
+    case dvs_driver::EventFileFormat::Text:
+      need = size / 18 * 16;
+      break;
+  }
+  const uint64_t avail = availableMemory();
+  if (avail > 0 && need > avail)
+    throw std::runtime_error(input + ": converting it needs up to " + num(need >> 20) + " MiB of memory (" +
+                             num(size >> 20) + " MiB file), only " + num(avail >> 20) +
+                             " MiB are available; convert a shorter piece");
 }
 }  // namespace
 
 int main(int argc, char** argv)
 {
-  std::string input, output, topic = dvs_driver::kDefaultEventTopic;
-  double period_s = 0.001, width = 0, height = 0;
-  bool zero_time = false;
-  for (int i = 1; i < argc; ++i)
+  Options o;
+  std::vector<std::string> given;
+  try
   {
-    const std::string a = argv[i];
-    auto value = [&](const char* name) -> const char* {
-      if (i + 1 >= argc)
-      {
-        std::cerr << "convert: " << name << " needs a value\n";
-        std::exit(2);
-      }
-      return argv[++i];
-    };
-    if (a == "--input")
-      input = value("--input");
-    else if (a == "--output")
-      output = value("--output");
-    else if (a == "--topic")
-      topic = value("--topic");
-    else if (a == "--zero-time")
-      zero_time = true;
-    else if (a == "--packet-period")
-    {
-      if (!parsePositive(value("--packet-period"), period_s))
-      {
-        std::cerr << "convert: --packet-period must be a positive number of seconds\n";
-        return 2;
-      }
-    }
-    else if (a == "--packet-period-ms")
-    {
-      double ms = 0;
-      if (!parsePositive(value("--packet-period-ms"), ms))
-      {
-        std::cerr << "convert: --packet-period-ms must be a positive number\n";
-        return 2;
-      }
-      std::cerr << "convert: --packet-period-ms is deprecated: use --packet-period " << ms * 1e-3 << " (seconds)\n";
-      period_s = ms * 1e-3;
-    }
-    else if (a == "--width" || a == "--height")
-    {
-      double& v = a == "--width" ? width : height;
-      if (!parsePositive(value(a.c_str()), v) || v != static_cast<uint32_t>(v))
-      {
-        std::cerr << "convert: " << a << " must be a positive integer\n";
-        return 2;
-      }
-    }
-    else if (a == "-h" || a == "--help")
+    dvs_driver::ParamTable table = optionTable(o);
+    if (dvs_driver::parseCommandLine(table, argc, argv, &given))
     {
       usage(std::cout);
       return 0;
     }
-    else if (a.rfind("__", 0) == 0)  // roslaunch/rosrun remapping arguments
-      continue;
-    else
-    {
-      std::cerr << "convert: unknown argument `" << a << "`\n";
-      usage(std::cerr);
-      return 2;
-    }
   }
-  if (input.empty() || output.empty())
+  catch (const dvs_driver::UsageError& e)
   {
-    std::cerr << "convert: --input and --output are required\n";
+    std::cerr << e.what() << "\n";
     usage(std::cerr);
     return 2;
   }
-  if ((width > 0) != (height > 0))
-  {
-    std::cerr << "convert: give both --width and --height, or neither\n";
-    return 2;
-  }
+  for (const std::string& g : given)
+    if (g == "--packet-period-ms")
+    {
+      std::cerr << "convert: --packet-period-ms is deprecated: use --packet-period " << o.period_ms * 1e-3
+                << " (seconds)\n";
+      o.period_s = o.period_ms * 1e-3;
+    }
+  const std::string& input = o.input;
+  const std::string& output = o.output;
 
   try
   {
+    checkMemory(input);
     dvs_driver::EventFileContents in;
     if (dvs_driver::eventFileFormat(input) == dvs_driver::EventFileFormat::Bag)
-      in.stream = dvs_driver::readEventsBag(input, topic);
+      in.stream = dvs_driver::readEventsBag(input, o.topic);
     else
       in = dvs_driver::readEventFile(input);
     dvs_driver::EventStream& s = in.stream;
-    if (width > 0)
+    if (o.width > 0)
     {
-      s.width = static_cast<uint32_t>(width);
-      s.height = static_cast<uint32_t>(height);
+      s.width = static_cast<uint32_t>(o.width);
+      s.height = static_cast<uint32_t>(o.height);
     }
     else if (s.width == 0 || s.height == 0)
     {
@@ -149,13 +178,53 @@ int main(int argc, char** argv)
       if (in.sensor_name.empty())
         in.sensor_name = name;
     }
-    for (const dvs_driver::Event& e : s.events)
-      if (e.x >= s.width || e.y >= s.height)
-        throw dvs_driver::EventFileError(input + ": event at pixel (" + std::to_string(e.x) + ", " +
-                                         std::to_string(e.y) + ") lies outside the " + std::to_string(s.width) +
-                                         "x" + std::to_string(s.height) + " sensor");
+
+    // The one validation step: events outside the sensor, backwards times, duplicates; plus
+    // what the reader repaired or skipped itself (AEDAT: clamped times, records outside).
+    dvs_driver::EventValidator validator(s.width, s.height);
+    size_t first_outside = s.events.size(), first_backwards = s.events.size();
+    for (size_t i = 0; i < s.events.size(); ++i)
+    {
+      const uint64_t back = validator.checks().backwards;
+      if (!validator.check(s.events[i]) && first_outside == s.events.size())
+        first_outside = i;
+      if (validator.checks().backwards != back && first_backwards == s.events.size())
+        first_backwards = i;
+    }
+    const dvs_driver::EventChecks& found = validator.checks();
+    if (found.outside_sensor > 0)
+    {
+      const dvs_driver::Event& e = s.events[first_outside];
+      throw dvs_driver::EventFileError(input + ": " + num(found.outside_sensor) +
+                                       (found.outside_sensor == 1 ? " event lies" : " events lie") + " outside the " +
+                                       std::to_string(s.width) + "x" + std::to_string(s.height) +
+                                       " sensor (the first, event " + num(first_outside) + ", at pixel (" +
+                                       std::to_string(e.x) + ", " + std::to_string(e.y) + "))");
+    }
+    if (found.backwards > 0)
+      throw dvs_driver::EventFileError(input + ": time goes backwards at " + num(found.backwards) +
+                                       (found.backwards == 1 ? " event" : " events") + " (by up to " +
+                                       std::to_string(found.max_backwards_ns * 1e-9) + " s; the first at event " +
+                                       num(first_backwards) + ", t = " +
+                                       std::to_string(s.events[first_backwards].t_ns * 1e-9) +
+                                       " s): events.txt and bags need events in time order");
+    dvs_driver::EventChecks checks = in.checks;
+    checks.merge(found);
+    if (!checks.clean())
+      std::cerr << "convert: warning: " << input << ": " << checks.summary() << "\n";
+    const dvs_driver::AedatInfo& a = in.aedat;
+    const bool aedat = dvs_driver::eventFileFormat(input) == dvs_driver::EventFileFormat::Aedat;
+    if (aedat && a.records > 0 && (a.out_of_range > 0 || s.events.empty()))
+      std::cerr << "convert: warning: " << input << ": " << a.records << " records, " << s.events.size()
+                << " events; skipped: " << a.out_of_range << " outside the " << a.sensor_name << " sensor, "
+                << a.sync_events << " sync, " << a.aps_samples << " APS, " << a.imu_samples
+                << " IMU (not a " << a.sensor_name << " recording, or corrupt?)\n";
+    if (in.truncated_bytes > 0)
+      std::cerr << "convert: warning: " << input << ": " << in.truncated_bytes
+                << " bytes of an incomplete last record ignored\n";
+
     int64_t offset_ns = 0;
-    if (zero_time && !s.events.empty())
+    if (o.zero_time && !s.events.empty())
     {
       offset_ns = -s.events.front().t_ns;
       for (dvs_driver::Event& e : s.events)
@@ -168,20 +237,22 @@ int main(int argc, char** argv)
         throw dvs_driver::EventFileError(input + ": time stamps are negative (first " +
                                          std::to_string(s.events.front().t_ns) +
                                          " ns) and a bag cannot hold them: add --zero-time");
-      packets = dvs_driver::writeEventsBag(output, topic, s, static_cast<int64_t>(period_s * 1e9 + 0.5));
+      packets = dvs_driver::writeEventsBag(output, o.topic, s, static_cast<int64_t>(o.period_s * 1e9 + 0.5));
     }
     else
-      dvs_driver::writeEventsText(output, s.events);
+      dvs_driver::writeEventsText(output, s.events);  // checked: throws WriteError naming the file
 
     const double span = s.events.empty() ? 0.0 : (s.events.back().t_ns - s.events.front().t_ns) * 1e-9;
     char buf[512];
     std::snprintf(buf, sizeof(buf),
                   "{\"events\":%zu,\"span_s\":%.6f,\"width\":%u,\"height\":%u,\"sensor\":%s,\"skipped_words\":%llu,"
-                  "\"truncated_bytes\":%zu,\"packets\":%zu,\"time_offset_ns\":%lld}",
+                  "\"truncated_bytes\":%zu,\"packets\":%zu,\"time_offset_ns\":%lld,",
                   s.events.size(), span, s.width, s.height, jsonString(in.sensor_name).c_str(),
                   static_cast<unsigned long long>(in.skipped), in.truncated_bytes, packets,
                   static_cast<long long>(offset_ns));
-    std::cout << buf << std::endl;
+    std::cout << buf << "\"records\":" << a.records << ",\"skipped\":{\"sync\":" << a.sync_events
+              << ",\"aps\":" << a.aps_samples << ",\"imu\":" << a.imu_samples << ",\"out_of_range\":" << a.out_of_range
+              << "}," << checks.json() << "}" << std::endl;
   }
   catch (const std::exception& e)
   {

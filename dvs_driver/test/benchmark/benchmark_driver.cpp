@@ -9,6 +9,7 @@
 //       event to the packet's delivery; counts lost or reordered events.
 #include "emulator/dvs128_emulator.h"
 
+#include <dvs_driver/command_line.h>
 #include <dvs_driver/dvs128_decoder.h>
 #include <dvs_driver/event_bag_io.h>
 
@@ -245,26 +246,34 @@ int latencyBenchmark(int argc, char** argv, double rate, double seconds, double 
 int main(int argc, char** argv)
 {
   const std::string mode = argc > 1 ? argv[1] : "";
-  double rate = 2e6, seconds = 5.0, period_ms = 1.0;
+  double rate = 2e6, seconds = 5.0, period_ms = 1.0, events_d = 20000000;
   int transfer_size = 4096;
-  size_t events = 20000000;
   int runs = 5;
-  for (int i = 2; i + 1 < argc; i += 2)
+  // Options checked by name and range (dvs_driver::parseCommandLine over a ParamTable).
+  dvs_driver::ParamTable t("benchmark_driver");
+  t.add("--rate", rate, "events/s", 1, 1e8, "latency: generated event rate");
+  t.add("--seconds", seconds, "s", 0.1, 3600, "latency: duration");
+  t.add("--period-ms", period_ms, "ms", 0.01, 1000, "latency: packet period");
+  t.add("--transfer-size", transfer_size, "bytes", 512, 262144, "latency: bulk transfer size");
+  t.add("--events", events_d, "events", 1000, 5e7, "decode: events (about 20 bytes of memory each)");
+  t.add("--runs", runs, "", 1, 1000, "decode: repetitions");
+  const char* usage =
+      "usage: benchmark_driver decode [--events N] [--runs R]\n"
+      "       benchmark_driver latency [--rate EV_PER_S] [--seconds S] [--period-ms P] [--transfer-size B]\n";
+  try
   {
-    const std::string a = argv[i];
-    if (a == "--rate")
-      rate = std::atof(argv[i + 1]);
-    else if (a == "--seconds")
-      seconds = std::atof(argv[i + 1]);
-    else if (a == "--period-ms")
-      period_ms = std::atof(argv[i + 1]);
-    else if (a == "--transfer-size")
-      transfer_size = std::atoi(argv[i + 1]);
-    else if (a == "--events")
-      events = static_cast<size_t>(std::atof(argv[i + 1]));
-    else if (a == "--runs")
-      runs = std::atoi(argv[i + 1]);
+    if (argc < 2 || dvs_driver::parseCommandLine(t, argc - 1, argv + 1))
+    {
+      std::fprintf(stderr, "%s", usage);
+      return 2;
+    }
   }
+  catch (const dvs_driver::UsageError& e)
+  {
+    std::fprintf(stderr, "%s\n%s", e.what(), usage);
+    return 2;
+  }
+  const size_t events = static_cast<size_t>(events_d);
   if (mode == "decode")
     return decodeBenchmark(events, runs);
   if (mode == "latency")
@@ -272,8 +281,6 @@ int main(int argc, char** argv)
     dvs_driver_test::reexecUnderUmockdev(argc, argv);
     return latencyBenchmark(argc, argv, rate, seconds, period_ms, transfer_size);
   }
-  std::fprintf(stderr,
-               "usage: benchmark_driver decode [--events N] [--runs R]\n"
-               "       benchmark_driver latency [--rate EV_PER_S] [--seconds S] [--period-ms P] [--transfer-size B]\n");
+  std::fprintf(stderr, "%s", usage);
   return 2;
 }
