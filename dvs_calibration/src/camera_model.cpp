@@ -1,4 +1,5 @@
 #include <dvs_calibration/camera_model.h>
+#include <dvs_driver/checked_write.h>
 
 #include <Eigen/LU>
 #include <yaml-cpp/yaml.h>
@@ -275,14 +276,18 @@ CameraModel loadCalibTxt(const std::string& path, int width, int height)
 
 void saveCalibTxt(const std::string& path, const CameraModel& camera)
 {
-  std::ofstream out(path);
-  if (!out)
-    throw CameraModelError(path + ": cannot write calibration file: " + std::strerror(errno));
-  const CameraIntrinsics& k = camera.intrinsics();
-  out << std::setprecision(17) << k.fx << ' ' << k.fy << ' ' << k.cx << ' ' << k.cy << ' ' << k.k1 << ' ' << k.k2
-      << ' ' << k.p1 << ' ' << k.p2 << ' ' << k.k3 << '\n';
-  if (!out)
-    throw CameraModelError(path + ": write failed");
+  try
+  {
+    dvs_driver::writeFileChecked(path, [&](std::ostream& out) {
+      const CameraIntrinsics& k = camera.intrinsics();
+      out << std::setprecision(17) << k.fx << ' ' << k.fy << ' ' << k.cx << ' ' << k.cy << ' ' << k.k1 << ' '
+          << k.k2 << ' ' << k.p1 << ' ' << k.p2 << ' ' << k.k3 << '\n';
+    });
+  }
+  catch (const dvs_driver::WriteError& e)
+  {
+    throw CameraModelError(std::string("cannot write calibration file ") + e.what());
+  }
 }
 
 namespace
@@ -362,25 +367,30 @@ CameraModel loadCameraInfoYaml(const std::string& path, std::string* camera_name
 
 void saveCameraInfoYaml(const std::string& path, const CameraModel& camera, const std::string& camera_name)
 {
-  std::ofstream out(path);
-  if (!out)
-    throw CameraModelError(path + ": cannot write camera_info YAML: " + std::strerror(errno));
-  const CameraIntrinsics& k = camera.intrinsics();
-  out << std::setprecision(12);
-  out << "image_width: " << k.width << "\n";
-  out << "image_height: " << k.height << "\n";
-  out << "camera_name: " << (camera_name.empty() ? "dvs" : camera_name) << "\n";
-  out << "camera_matrix:\n  rows: 3\n  cols: 3\n  data: [" << k.fx << ", 0, " << k.cx << ", 0, " << k.fy << ", "
-      << k.cy << ", 0, 0, 1]\n";
-  out << "distortion_model: plumb_bob\n";
-  out << "distortion_coefficients:\n  rows: 1\n  cols: 5\n  data: [" << k.k1 << ", " << k.k2 << ", " << k.p1 << ", "
-      << k.p2 << ", " << k.k3 << "]\n";
-  out << "rectification_matrix:\n  rows: 3\n  cols: 3\n  data: [1, 0, 0, 0, 1, 0, 0, 0, 1]\n";
-  out << "projection_matrix:\n  rows: 3\n  cols: 4\n  data: [" << k.fx << ", 0, " << k.cx << ", 0, 0, " << k.fy
-      << ", " << k.cy << ", 0, 0, 0, 1, 0]\n";
-  if (!out)
-    throw CameraModelError(path + ": write failed");
+  try
+  {
+    dvs_driver::writeFileChecked(path, [&](std::ostream& out) {
+      const CameraIntrinsics& k = camera.intrinsics();
+      out << std::setprecision(12);
+      out << "image_width: " << k.width << "\n";
+      out << "image_height: " << k.height << "\n";
+      out << "camera_name: " << (camera_name.empty() ? "dvs" : camera_name) << "\n";
+      out << "camera_matrix:\n  rows: 3\n  cols: 3\n  data: [" << k.fx << ", 0, " << k.cx << ", 0, " << k.fy
+          << ", " << k.cy << ", 0, 0, 1]\n";
+      out << "distortion_model: plumb_bob\n";
+      out << "distortion_coefficients:\n  rows: 1\n  cols: 5\n  data: [" << k.k1 << ", " << k.k2 << ", " << k.p1
+          << ", " << k.p2 << ", " << k.k3 << "]\n";
+      out << "rectification_matrix:\n  rows: 3\n  cols: 3\n  data: [1, 0, 0, 0, 1, 0, 0, 0, 1]\n";
+      out << "projection_matrix:\n  rows: 3\n  cols: 4\n  data: [" << k.fx << ", 0, " << k.cx << ", 0, 0, "
+          << k.fy << ", " << k.cy << ", 0, 0, 0, 1, 0]\n";
+    });
+  }
+  catch (const dvs_driver::WriteError& e)
+  {
+    throw CameraModelError(std::string("cannot write camera_info YAML ") + e.what());
+  }
 }
+
 bool isCameraInfoYamlPath(const std::string& path)
 {
   auto ends = [&](const std::string& suffix) {

@@ -1,6 +1,9 @@
 #include <dvs_calibration/event_image.h>
 
+#include <dvs_driver/checked_write.h>
+
 #include <opencv2/calib3d.hpp>
+#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
@@ -80,5 +83,23 @@ cv::Mat renderPreview(const cv::Mat& counts, const std::vector<cv::Point2f>& gri
   std::snprintf(text, sizeof(text), "focus %.1f", focus_score);
   cv::putText(bgr, text, cv::Point(4, 16), cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(0, 255, 255), 1, cv::LINE_AA);
   return bgr;
+}
+void writeImageChecked(const std::string& path, const cv::Mat& image)
+{
+  const size_t dot = path.rfind('.');
+  const std::string ext = dot == std::string::npos ? std::string() : path.substr(dot);
+  std::vector<uchar> bytes;
+  bool encoded = false;
+  try
+  {
+    encoded = !ext.empty() && cv::imencode(ext, image, bytes);
+  }
+  catch (const cv::Exception&)
+  {
+    encoded = false;
+  }
+  if (!encoded)
+    throw dvs_driver::WriteError(path, "cannot encode the image as '" + ext + "' (use .png or .jpg)");
+  dvs_driver::writeFileChecked(path, std::string(bytes.begin(), bytes.end()));
 }
 }  // namespace dvs_calibration

@@ -1,4 +1,5 @@
 #include <dvs_calibration/trajectory_file.h>
+#include <dvs_driver/checked_write.h>
 
 #include <cmath>
 #include <cstdio>
@@ -112,12 +113,13 @@ void writeTumTrajectory(std::ostream& out, const Trajectory& poses, const std::s
 
 void writeTumTrajectory(const std::string& path, const Trajectory& poses, const std::string& header)
 {
-  std::ofstream out(path);
-  if (!out)
-    throw TrajectoryFileError("cannot write trajectory file '" + path + "'");
-  writeTumTrajectory(out, poses, header);
-  out.flush();
-  if (!out)
-    throw TrajectoryFileError("error while writing trajectory file '" + path + "'");
+  try
+  {
+    dvs_driver::writeFileChecked(path, [&](std::ostream& out) { writeTumTrajectory(out, poses, header); });
+  }
+  catch (const dvs_driver::WriteError& e)
+  {
+    throw TrajectoryFileError(std::string("cannot write trajectory file ") + e.what());
+  }
 }
 }  // namespace dvs_calibration

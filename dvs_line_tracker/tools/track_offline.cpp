@@ -5,6 +5,7 @@
 //   track_offline --bag in.bag [--topic /dvs/events] --camera-info cam.yaml --map map.yaml --out traj.txt
 #include <dvs_calibration/camera_model.h>
 #include <dvs_driver/aedat_reader.h>
+#include <dvs_driver/checked_write.h>
 #include <dvs_driver/event_bag_io.h>
 #include <dvs_driver/event_text_io.h>
 #include <dvs_line_tracker/line_tracker.h>
@@ -55,6 +56,12 @@ struct Args
     return it == kv.end() ? def : it->second;
   }
 };
+
+/// The events file named in the arguments (for messages).
+std::string inputName(const Args& args)
+{
+  return args.has("events") ? args.get("events") : args.has("bag") ? args.get("bag") : args.get("aedat");
+}
 
 /// A whole number in [1, max] for option `name`, or an error naming the option and the value.
 int parseSize(const std::string& text, const char* name, long max = dvs_calibration::kMaxSensorSide)
@@ -138,6 +145,7 @@ int main(int argc, char** argv)
     if (args.has("height"))
       height = parseSize(args.get("height"), "--height");
     dvs_calibration::CameraModel camera;
+    bool size_assumed = false;
     if (args.has("calib") || args.has("camera-info"))
     {
       const std::string file = args.has("calib") ? args.get("calib") : args.get("camera-info");
@@ -145,6 +153,7 @@ int main(int argc, char** argv)
       {
         width = width > 0 ? width : 128;
         height = height > 0 ? height : 128;
+        size_assumed = true;
         std::cerr << "track_offline: " << file << " and the events give no sensor size: assuming " << width << "x"
                   << height << " (DVS128; give --width/--height otherwise)\n";
       }
@@ -154,6 +163,21 @@ int main(int argc, char** argv)
       camera = dvs_calibration::CameraModel::preset(args.get("preset"));
     else
       throw std::runtime_error("give --calib, --camera-info or --preset");
+    if (size_assumed)
+    {
+      // An assumed size must fit every event, or the recording is from another sensor: refuse it
+      // rather than track part of it (an explicitly given size only counts and warns).
+      for (size_t i = 0; i < stream.events.size(); ++i)
+      {
+        const dvs_driver::Event& e = stream.events[i];
+        if (e.x >= camera.width() || e.y >= camera.height())
+          throw std::runtime_error(inputName(args) + ": event " + std::to_string(i + 1) + " (t " +
+                                   formatSeconds(e.t_ns) + " s, x " + std::to_string(e.x) + ", y " +
+                                   std::to_string(e.y) + ") lies outside the assumed " + std::to_string(width) + "x" +
+                                   std::to_string(height) + " sensor: give the sensor size with --width/--height "
+                                   "(or a camera_info YAML)");
+      }
+    }
 
     const LineMap map = args.has("map") ? loadLineMap(args.get("map")) : defaultSquareMap();
     LineTrackerParams params;
@@ -164,9 +188,9 @@ int main(int argc, char** argv)
     if (args.has("buffer-size"))
       params.buffer_size = parseSize(args.get("buffer-size"), "--buffer-size", 1024);
 
-    FILE* out = std::fopen(args.get("out").c_str(), "w");
-    if (!out)
-      throw std::runtime_error("cannot write '" + args.get("out") + "'");
+    // Opened before tracking so that a bad output path fails at once (checked_write.h: every
+    // write, the flush and the close are checked; the file appears complete or not at all).
+    dvs_driver::CheckedFileWriter out(args.get("out"));
 
     LineTracker tracker(camera, map, params);
     struct Stamped
@@ -182,17 +206,17 @@ int main(int argc, char** argv)
         poses.push_back({e.t_ns, tracker.pose()});
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
-    std::fprintf(out, "# t tx ty tz qx qy qz qw (T_world_camera, TUM), dvs_line_tracker\n");
+    out.write(std::string("# t tx ty tz qx qy qz qw (T_world_camera, TUM), dvs_line_tracker\n"));
+    char line[160];
     for (const auto& s : poses)
     {
       const Eigen::Vector3d p = s.pose.p_world_camera();
       const Eigen::Quaterniond q = s.pose.q_world_camera();
-      std::fprintf(out, "%s %.6f %.6f %.6f %.7f %.7f %.7f %.7f\n", formatSeconds(s.t_ns).c_str(), p.x(), p.y(), p.z(),
-                   q.x(), q.y(), q.z(), q.w());
+      const int n = std::snprintf(line, sizeof(line), "%s %.6f %.6f %.6f %.7f %.7f %.7f %.7f\n",
+                                  formatSeconds(s.t_ns).c_str(), p.x(), p.y(), p.z(), q.x(), q.y(), q.z(), q.w());
+      out.write(line, static_cast<size_t>(std::min<int>(n, sizeof(line) - 1)));
     }
-    const bool write_ok = std::fclose(out) == 0;
-    if (!write_ok)
-      throw std::runtime_error("error writing '" + args.get("out") + "'");
+    out.commit();
 
     const auto& st = tracker.stats();
     if (st.events_outside_sensor > 0)

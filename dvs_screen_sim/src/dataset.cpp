@@ -1,5 +1,6 @@
 #include <dvs_driver/event_text_io.h>
 #include <dvs_screen_sim/dataset.h>
+#include <dvs_driver/checked_write.h>
 #include <dvs_calibration/trajectory_file.h>
 
 #include <ctime>
@@ -59,24 +60,19 @@ SimulationOutput runSimulation(const SimConfig& config, const EventChunkSink& si
   return out;
 }
 
-EventsTextStream::EventsTextStream(const std::string& path) : path_(path), out_(path)
+EventsTextStream::EventsTextStream(const std::string& path) : out_(std::make_unique<dvs_driver::CheckedFileWriter>(path))
 {
-  if (!out_)
-    throw std::runtime_error("cannot write '" + path + "'");
 }
+
+EventsTextStream::~EventsTextStream() = default;
 
 void EventsTextStream::write(const dvs_driver::EventVector& chunk)
 {
-  dvs_driver::writeEventsText(out_, chunk);
+  dvs_driver::writeEventsText(out_->stream(), chunk);
+  out_->write(nullptr, 0);  // throws WriteError now if the disk refused the chunk
 }
 
-void EventsTextStream::close()
-{
-  out_.flush();
-  if (!out_)
-    throw std::runtime_error("error while writing '" + path_ + "'");
-  out_.close();
-}
+void EventsTextStream::close() { out_->commit(); }
 
 void writeDataset(const std::string& dir, const SimConfig& config, const SimulationOutput& output)
 {
@@ -99,16 +95,11 @@ void writeDatasetWithoutEvents(const std::string& dir, const SimConfig& config, 
   dvs_calibration::saveCalibTxt(base + "calib.txt", config.camera);
   dvs_calibration::saveCameraInfoYaml(base + "camera_info.yaml", config.camera, "dvs_screen_sim");
   writeLineMapYaml(base + "map.yaml", config.scene);
-  std::ofstream cfg(base + "config.yaml");
-  if (!cfg)
-    throw std::runtime_error("cannot write '" + base + "config.yaml'");
-  cfg << "# Resolved dvs_screen_sim configuration: `simulate --scenario " << config.scenario
-      << " --config config.yaml` reproduces this dataset.\n";
   YAML::Emitter em;
   em.SetDoublePrecision(17);
   em << config.resolved;
-  cfg << em.c_str() << "\n";
-  if (!cfg)
-    throw std::runtime_error("error while writing '" + base + "config.yaml'");
+  dvs_driver::writeFileChecked(base + "config.yaml", "# Resolved dvs_screen_sim configuration: `simulate --scenario " +
+                                                       config.scenario + " --config config.yaml` reproduces this dataset.\n" +
+                                                       em.c_str() + "\n");
 }
 }  // namespace dvs_screen_sim

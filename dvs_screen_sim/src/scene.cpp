@@ -1,4 +1,5 @@
 #include <dvs_screen_sim/scene.h>
+#include <dvs_driver/checked_write.h>
 
 #include <opencv2/imgcodecs.hpp>
 
@@ -472,18 +473,15 @@ std::vector<MapSegment> mapSegments(const Scene& scene)
 
 void writeLineMapYaml(const std::string& path, const Scene& scene)
 {
-  std::ofstream out(path);
-  if (!out)
-    throw SceneError("cannot write map file '" + path + "'");
-  out.precision(9);
-  out << "# Line map derived from the simulated scene (world frame: wall plane z = 0, x right, y up).\n";
-  out << "frame_id: world\n";
-  out << "up: [" << scene.map_up.x() << ", " << scene.map_up.y() << ", " << scene.map_up.z() << "]\n";
-  out << "segments:\n";
-  for (const auto& s : mapSegments(scene))
-    out << "  - [[" << s.a.x() << ", " << s.a.y() << ", " << s.a.z() << "], [" << s.b.x() << ", " << s.b.y() << ", "
-        << s.b.z() << "]]\n";
-  if (!out)
-    throw SceneError("error while writing map file '" + path + "'");
+  dvs_driver::writeFileChecked(path, [&](std::ostream& out) {
+    out.precision(9);
+    out << "# Line map derived from the simulated scene (world frame: wall plane z = 0, x right, y up).\n";
+    out << "frame_id: world\n";
+    out << "up: [" << scene.map_up.x() << ", " << scene.map_up.y() << ", " << scene.map_up.z() << "]\n";
+    out << "segments:\n";
+    for (const auto& s : mapSegments(scene))
+      out << "  - [[" << s.a.x() << ", " << s.a.y() << ", " << s.a.z() << "], [" << s.b.x() << ", " << s.b.y()
+          << ", " << s.b.z() << "]]\n";
+  });
 }
 }  // namespace dvs_screen_sim

@@ -6,6 +6,8 @@
 
 #include <opencv2/core.hpp>
 
+#include <string>
+
 namespace dvs_calibration
 {
 /// Counts (CV_32S/CV_32F) -> CV_8U, scaled so the 99th percentile of the non-zero counts is white.
@@ -21,4 +23,7 @@ cv::Mat countEvents(const dvs_driver::EventVector& events, int width, int height
 /// Preview: grey counts with the grid detection drawn (if any) and the focus score written. CV_8UC3.
 cv::Mat renderPreview(const cv::Mat& counts, const std::vector<cv::Point2f>& grid_centers, int grid_cols,
                       double focus_score, int upscale = 4);
+/// Write an image (format from the extension: .png, .jpg, ...) with every failure reported:
+/// throws dvs_driver::WriteError naming the file (missing folder, full disk, unknown extension).
+void writeImageChecked(const std::string& path, const cv::Mat& image);
 }  // namespace dvs_calibration

@@ -168,11 +168,19 @@ int main(int argc, char** argv)
       cv::Mat a = countsToImage(w.counts), both;
       cv::hconcat(a, w.binary, both);
       cv::resize(both, both, cv::Size(), 4, 4, cv::INTER_NEAREST);
-      cv::imwrite(args.get("debug-images") + "/window_" + std::to_string(w.t_begin_ns / 1000000) + ".png", both);
+      writeImageChecked(args.get("debug-images") + "/window_" + std::to_string(w.t_begin_ns / 1000000) + ".png", both);
     }
   });
-  session.addEvents(stream.events);
-  session.flush();
+  try
+  {
+    session.addEvents(stream.events);
+    session.flush();
+  }
+  catch (const std::exception& e)  // e.g. a debug image that cannot be written
+  {
+    std::cerr << "calibrate: " << e.what() << "\n";
+    return 1;
+  }
 
   CalibrationSummary summary;
   summary.windows = session.windowsProcessed();
@@ -192,8 +200,7 @@ int main(int argc, char** argv)
       cv::Mat both;
       cv::hconcat(raw, und, both);
       cv::resize(both, both, cv::Size(), 4, 4, cv::INTER_NEAREST);
-      if (!cv::imwrite(args.get("undistorted-image"), both))
-        throw std::runtime_error("cannot write " + args.get("undistorted-image"));
+      writeImageChecked(args.get("undistorted-image"), both);
     }
   }
   catch (const std::exception& e)

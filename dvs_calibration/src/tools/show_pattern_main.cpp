@@ -1,6 +1,7 @@
 // Fullscreen display of the focus pattern (thesis Fig. 2.1a) or the calibration grid (Fig. 2.1b),
 // static (for a dimmed, flickering LED backlight) or blinking in software (for screens that do
 // not flicker). Prints the physical dot spacing to pass to the calibrator.
+#include <dvs_calibration/event_image.h>
 #include <dvs_calibration/pattern_renderer.h>
 
 #include <opencv2/highgui.hpp>
@@ -150,8 +151,7 @@ int main(int argc, char** argv)
     try
     {
       const cv::Mat img = render(pattern, width, height);
-      if (!cv::imwrite(args["save"], img))
-        throw std::runtime_error("cannot write " + args["save"]);
+      dvs_calibration::writeImageChecked(args["save"], img);
       if (pattern == "grid")
         printSpacing(grid, width, height, pitch_mm);
     }

@@ -11,9 +11,9 @@
 #include <memory>
 #include <string>
 
-namespace rosbag
+namespace dvs_driver
 {
-class Bag;
+class CheckedBagWriter;
 }
 
 namespace dvs_screen_sim
@@ -32,7 +32,7 @@ public:
 
 private:
   SimConfig config_;
-  std::unique_ptr<rosbag::Bag> bag_;
+  std::unique_ptr<dvs_driver::CheckedBagWriter> bag_;
 };
 
 /// The whole simulation output as a bag.

@@ -14,7 +14,13 @@
 
 #include <fstream>
 #include <functional>
+#include <memory>
 #include <string>
+
+namespace dvs_driver
+{
+class CheckedFileWriter;
+}
 
 namespace dvs_screen_sim
 {
@@ -46,14 +52,16 @@ void writeDatasetWithoutEvents(const std::string& dir, const SimConfig& config, 
 class EventsTextStream
 {
 public:
-  /// Creates the file; throws std::runtime_error naming it.
+  /// Creates the file (checked_write.h: written beside it and renamed at close()); throws
+  /// dvs_driver::WriteError naming it.
   explicit EventsTextStream(const std::string& path);
+  ~EventsTextStream();
+  /// Throws dvs_driver::WriteError when the disk refuses the chunk (full disk, ...).
   void write(const dvs_driver::EventVector& chunk);
-  /// Flushes and checks; throws std::runtime_error on a write error.
+  /// Flushes, checks and renames the file into place; throws dvs_driver::WriteError.
   void close();
 
 private:
-  std::string path_;
-  std::ofstream out_;
+  std::unique_ptr<dvs_driver::CheckedFileWriter> out_;
 };
 }  // namespace dvs_screen_sim

@@ -1,7 +1,7 @@
 #include <dvs_driver/event_bag_io.h>
 #include <dvs_screen_sim/bag_output.h>
 #include <dvs_screen_sim/ros_conversions.h>
-#include <rosbag/bag.h>
+#include <dvs_driver/checked_bag.h>
 #include <tf2_msgs/TFMessage.h>
 
 #include <algorithm>
@@ -16,17 +16,11 @@ ros::Time recordTime(const ros::Time& t)
 }
 }  // namespace
 
+// Every bag write goes through the checked writer: a full disk or a missing folder is a
+// BagWriteError naming the bag, never an abort from rosbag.
 SimulationBagWriter::SimulationBagWriter(const std::string& path, const SimConfig& config)
-  : config_(config), bag_(std::make_unique<rosbag::Bag>())
+  : config_(config), bag_(std::make_unique<dvs_driver::CheckedBagWriter>(path))
 {
-  try
-  {
-    bag_->open(path, rosbag::bagmode::Write);
-  }
-  catch (const rosbag::BagException& e)
-  {
-    throw std::runtime_error("cannot write bag '" + path + "': " + e.what());
-  }
 }
 
 SimulationBagWriter::~SimulationBagWriter() = default;

@@ -4,7 +4,7 @@
 #include <dvs_driver/param_table_ros.h>
 #include <dvs_screen_sim/ros_conversions.h>
 #include <dvs_screen_sim/screen_loop/window_screen.h>
-#include <rosbag/bag.h>
+#include <dvs_driver/checked_bag.h>
 #include <tf2_msgs/TFMessage.h>
 
 namespace dvs_screen_sim
@@ -86,7 +86,7 @@ void ScreenLoopRos::writeBag(const Playback& playback) const
   dvs_driver::EventVector events = playback.events;
   for (auto& e : events)
     e.t_ns += start;
-  rosbag::Bag bag(params_.bag, rosbag::bagmode::Write);
+  dvs_driver::CheckedBagWriter bag(params_.bag);  // throws BagWriteError naming the bag
   dvs_driver::writeEventsBag(bag, "/dvs/events", events, static_cast<uint32_t>(camera_.width()),
                              static_cast<uint32_t>(camera_.height()));
   for (StampedPose sp : playback.shown)

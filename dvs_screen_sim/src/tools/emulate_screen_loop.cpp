@@ -6,6 +6,7 @@
 //       [--time-scale F] [--refresh-hz HZ] [--response-ms MS] [--monitor-levels B,W] [--dvs-ypr Y,P,R]
 //       [--dvs-distance M] [--window WxH]
 // Without $DISPLAY it re-runs itself under xvfb-run.
+#include <dvs_driver/checked_write.h>
 #include <dvs_screen_sim/dataset.h>
 #include <dvs_screen_sim/screen_loop/emulated_screen_loop.h>
 #include <dvs_screen_sim/screen_loop/line_grid_check.h>
@@ -216,7 +217,8 @@ int main(int argc, char** argv)
     EventsTextStream ev(out_dir + "/events.txt");
     ev.write(events);
     ev.close();
-    std::ofstream rep(out_dir + "/alignment.txt");
+    dvs_driver::CheckedFileWriter report(out_dir + "/alignment.txt");
+    std::ostream& rep = report.stream();
     rep << "# screen-in-the-loop emulation (thesis ch. 3): DVS yaw,pitch,roll " << ypr.transpose() << " deg at "
         << distance << " m\n# H_D (ideal DVS px -> viewport)\n"
         << a.result.H_D << "\n# H (viewport correction, Eq. 3.14)\n"
@@ -224,6 +226,7 @@ int main(int argc, char** argv)
         << st.mean_event_distance << "\nline_grid_mean_line_offset_px " << st.mean_line_offset << "\ntime_scale "
         << time_scale << "\nrefresh_hz " << refresh_hz << "\nresponse_ms " << response_ms << "\nmax_screen_px_per_refresh " << mc.max_px_per_refresh
         << "\n";
+    report.commit();  // throws WriteError naming the file (full disk, missing folder)
     std::printf("%zu events over %.3f s of trajectory (%.1f s of screen time, %.1f s CPU) -> %s\n", events.size(),
                 config.duration, config.duration * time_scale, cpu, out_dir.c_str());
   }
