@@ -132,3 +132,41 @@ TEST(ToolErrors, CalibrateDebugImagesIntoAMissingFolder)
   EXPECT_EQ(r.exit_code, 1) << r.err;
   EXPECT_NE(r.err.find("/nonexistent_folder_xyz/window_"), std::string::npos) << r.err;
 }
+
+TEST(ToolErrors, TrackOfflineSaysWhatIsWrongWithItsInput)
+{
+  // Every line of an events file twice: tracked as given, but said (it used to never initialise
+  // without a word), and counted in the JSON summary.
+  const std::string& d = dataset();
+  const std::string dup = (fs::temp_directory_path() / ("tool_err_dup_" + std::to_string(::getpid()))).string();
+  {
+    std::ifstream in(d + "/events.txt");
+    std::ofstream out(dup);
+    std::string line;
+    while (std::getline(in, line))
+      out << line << "\n" << (line.empty() || line[0] == '#' ? "" : line + "\n");
+  }
+  const std::string json = (fs::temp_directory_path() / ("tool_err_json_" + std::to_string(::getpid()))).string();
+  const int status = std::system((std::string(TRACK_OFFLINE_TOOL) + " --events " + dup + " --calib " + d +
+                                  "/calib.txt --out /dev/null > " + json + " 2> " + json + ".err")
+                                     .c_str());
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 0);
+  std::ifstream jin(json), ein(json + ".err");
+  const std::string out((std::istreambuf_iterator<char>(jin)), std::istreambuf_iterator<char>());
+  const std::string err((std::istreambuf_iterator<char>(ein)), std::istreambuf_iterator<char>());
+  EXPECT_NE(err.find("exact duplicates (50%"), std::string::npos) << err;
+  EXPECT_NE(out.find("\"duplicates\":"), std::string::npos) << out;
+  EXPECT_EQ(out.find("\"duplicates\":0"), std::string::npos) << out;
+  fs::remove(dup);
+  fs::remove(json);
+  fs::remove(json + ".err");
+
+  // Not a recording at all: a named error.
+  const std::string garbage = (fs::temp_directory_path() / ("tool_err_garbage_" + std::to_string(::getpid()))).string();
+  std::ofstream(garbage) << "#!AER-DAT2.0\r\n" << std::string(1001, '\x7f');
+  const Result r = run(std::string(TRACK_OFFLINE_TOOL) + " --aedat " + garbage + " --preset dvs128 --out /dev/null");
+  EXPECT_NE(r.exit_code, -1) << r.err;
+  EXPECT_NE(r.err.find(garbage), std::string::npos) << r.err;
+  fs::remove(garbage);
+}

@@ -6,6 +6,7 @@
 #include <dvs_calibration/camera_model.h>
 #include <dvs_driver/aedat_reader.h>
 #include <dvs_driver/checked_write.h>
+#include <dvs_driver/event_validation.h>
 #include <dvs_driver/event_bag_io.h>
 #include <dvs_driver/event_text_io.h>
 #include <dvs_line_tracker/line_tracker.h>
@@ -124,12 +125,17 @@ int main(int argc, char** argv)
   {
     // Inputs (parsing is not part of the processing time).
     dvs_driver::EventStream stream;
+    dvs_driver::EventChecks input_checks;
     if (args.has("events"))
       stream.events = dvs_driver::readEventsText(args.get("events"));
     else if (args.has("bag"))
       stream = dvs_driver::readEventsBag(args.get("bag"), args.get("topic", "/dvs/events"));
     else
-      stream = dvs_driver::readAedat(args.get("aedat")).stream;
+    {
+      dvs_driver::AedatRecording recording = dvs_driver::readAedat(args.get("aedat"));
+      stream = std::move(recording.stream);
+      input_checks = recording.info.checks;  // what the reader repaired or skipped
+    }
 
     // The sensor size: from the recording when it says, else --width/--height, else a
     // camera_info YAML; a calib.txt has none, so without any of these the DVS128's 128x128 is
@@ -179,6 +185,15 @@ int main(int argc, char** argv)
       }
     }
 
+    // The one validation step of every input path: outside the sensor, backwards, duplicates.
+    dvs_driver::EventValidator validator(static_cast<uint32_t>(camera.width()), static_cast<uint32_t>(camera.height()));
+    validator.check(stream.events.data(), stream.events.data() + stream.events.size());
+    input_checks.merge(validator.checks());
+    if (!input_checks.clean())
+      std::cerr << "track_offline: warning: " << inputName(args) << ": " << input_checks.summary() << "\n";
+    if (stream.events.empty())
+      std::cerr << "track_offline: warning: " << inputName(args) << " holds no events\n";
+
     const LineMap map = args.has("map") ? loadLineMap(args.get("map")) : defaultSquareMap();
     LineTrackerParams params;
     if (args.has("params"))
@@ -226,12 +241,13 @@ int main(int argc, char** argv)
     std::printf(
         "{\"events_read\": %zu, \"events_attributed\": %llu, \"pose_updates\": %llu, \"initializations\": %llu, "
         "\"reinitializations\": %llu, \"losses\": %llu, \"events_outside_sensor\": %llu, \"final_state\": \"%s\", "
-        "\"processing_seconds\": %.6f, "
+        "\"processing_seconds\": %.6f, \"input\": {%s}, "
         "\"events_per_second\": %.0f}\n",
         stream.events.size(), static_cast<unsigned long long>(st.events_attributed),
         static_cast<unsigned long long>(st.pose_updates), static_cast<unsigned long long>(st.initializations),
         static_cast<unsigned long long>(st.reinitializations), static_cast<unsigned long long>(st.losses),
-        static_cast<unsigned long long>(st.events_outside_sensor), toString(tracker.state()), seconds, seconds > 0 ? stream.events.size() / seconds : 0.0);
+        static_cast<unsigned long long>(st.events_outside_sensor), toString(tracker.state()), seconds,
+        input_checks.json().c_str(), seconds > 0 ? stream.events.size() / seconds : 0.0);
     return 0;
   }
   catch (const std::exception& e)
