@@ -110,7 +110,7 @@ public:
       fail("not a readable HDF5 file (truncated or corrupt: " + hdf5::lastError() + ")");
     file_ = Handle(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT));
     if (!file_)
-      fail("cannot be opened as HDF5 (truncated or corrupt file: " + hdf5::lastError() + ")");
+      fail("not a readable HDF5 file (truncated or corrupt: " + hdf5::lastError() + ")");
 
     static const std::array<const char*, 4> kNames = {"x", "y", "t", "p"};
     auto hasAll = [&](const std::string& prefix) {
