@@ -12,6 +12,8 @@
 #include <std_msgs/String.h>
 #include <topic_tools/shape_shifter.h>
 
+#include <cstdlib>
+
 using namespace dvs_driver;
 using formats_test::TempFile;
 
@@ -113,6 +115,25 @@ TEST(FormatsEventPacketBag, BagFromTheRealPayloadsGivesTheKnownAnswers)
   EXPECT_EQ(s.damaged_packets, 0u);
   EXPECT_EQ(s.bytes_read, s.file_size);
   EXPECT_TRUE(s.warnings.empty()) << s.warnings.front();
+  // Python rosbag reads the same bag (message class generated from the stored definition).
+  if (std::system("/usr/bin/python3 -c 'import rosbag' 2>/dev/null") == 0)
+  {
+    size_t payload = 0;
+    for (const auto& p : ros2_sample::readBagPackets(formats_test::sample("eventpacket_evt3_1280x720_ros2bag.db3")))
+      payload += p.events.size();
+    const std::string py =
+        "import rosbag, sys\n"
+        "n = b = 0\n"
+        "for topic, m, t in rosbag.Bag('" + f.path() + "').read_messages(topics=['" + kTopic + "']):\n"
+        "    ok = m._type == 'event_camera_msgs/EventPacket' and m.encoding == 'evt3' and m.width == 1280 "
+        "and m.height == 720 and m.header.frame_id == '0109'\n"
+        "    if not ok: sys.exit(2)\n"
+        "    n += 1; b += len(m.events)\n"
+        "sys.exit(0 if (n, b) == (105, " + std::to_string(payload) + ") else 1)\n";
+    TempFile script(".py");
+    script.write(reinterpret_cast<const uint8_t*>(py.data()), py.size());
+    EXPECT_EQ(std::system(("/usr/bin/python3 " + script.path()).c_str()), 0) << py;
+  }
   // Named topic: the same.
   EXPECT_EQ(openEventPacketBag(f.path(), kTopic)->readAll().size(), 82469u);
 }
