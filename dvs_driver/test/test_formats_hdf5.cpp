@@ -335,3 +335,52 @@ TEST(FormatsHdf5, WrittenFilesOpenInH5py)
     EXPECT_EQ(std::system(("/usr/bin/python3 " + script.path()).c_str()), 0) << py;
   }
 }
+
+TEST(FormatsHdf5, ReadsABloscDsecFileWrittenByH5py)
+{
+  if (std::system("/usr/bin/python3 -c 'import h5py' 2>/dev/null") != 0)
+    GTEST_SKIP() << "python3-h5py is not installed (scripts/debian-packages.txt lists it)";
+  TempFile f(".h5"), script(".py");
+  // An independent writer: h5py with blosc (zstd, byte shuffle) in chunks of 4 events, as DSEC.
+  const std::string py = "import h5py, numpy as np\n"
+                         "f = h5py.File('" + f.path() + "', 'w')\n"
+                         "g = f.create_group('events')\n"
+                         "o = dict(compression=32001, compression_opts=(0, 0, 0, 0, 5, 1, 5), chunks=(4,))\n"
+                         "g.create_dataset('x', data=np.array([1, 2, 3, 639, 5], dtype='u2'), **o)\n"
+                         "g.create_dataset('y', data=np.array([10, 20, 30, 479, 50], dtype='u2'), **o)\n"
+                         "g.create_dataset('t', data=np.array([0, 5, 1000, 1001, 70000], dtype='u4'), **o)\n"
+                         "g.create_dataset('p', data=np.array([1, 0, 1, 0, 1], dtype='u1'), **o)\n"
+                         "f.create_dataset('t_offset', data=np.int64(123456))\n"
+                         "f.create_dataset('ms_to_idx', data=np.array([0, 2], dtype='u8'))\n"
+                         "f.close()\n";
+  script.write(reinterpret_cast<const uint8_t*>(py.data()), py.size());
+  ASSERT_EQ(std::system(("/usr/bin/python3 " + script.path()).c_str()), 0) << py;
+  auto r = openEventFile(f.path());
+  EXPECT_EQ(r->formatName(), "HDF5 (DSEC layout)");
+  const EventVector ev = readInBatches(*r, 2);
+  const EventVector expected = {Event{123456000, 1, 10, true}, Event{123461000, 2, 20, false},
+                                Event{124456000, 3, 30, true}, Event{124457000, 639, 479, false},
+                                Event{193456000, 5, 50, true}};
+  EXPECT_TRUE(ev == expected);
+  EXPECT_EQ(r->stats().damaged_packets, 0u);
+}
+
+TEST(FormatsHdf5, MissingBloscPluginIsNamed)
+{
+  TempFile f(".h5");
+  Hdf5WriterOptions o;
+  o.compression = Hdf5Compression::Blosc;
+  Hdf5Writer(f.path(), 640, 480, o).write(someEvents(100, 0, 640, 480));
+  // As without hdf5-filter-plugin-blosc-serial: no plugin loading, blosc unregistered.
+  unsigned state = 0;
+  H5PLget_loading_state(&state);
+  ASSERT_GE(H5PLset_loading_state(0), 0);
+  H5Zunregister(32001);
+  ASSERT_LE(H5Zfilter_avail(32001), 0);
+  const std::string e = errorOf(f.path());
+  EXPECT_NE(e.find("HDF5 filter 32001 (blosc), which is not available"), std::string::npos) << e;
+  EXPECT_NE(e.find("hdf5-filter-plugin-blosc-serial"), std::string::npos) << e;
+  TempFile g(".h5");
+  EXPECT_THROW(Hdf5Writer(g.path(), 640, 480, o), EventFormatError);
+  H5PLset_loading_state(state);
+}
