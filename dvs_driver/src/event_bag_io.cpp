@@ -260,7 +260,7 @@ std::unique_ptr<EventSource> openEventSource(const std::string& path, const std:
 {
   if (eventFileFormat(path) == EventFileFormat::Bag)
     return std::unique_ptr<EventSource>(new BagEventSource(path, topic));
-  return openEventFile(path);
+  return openEventFileSource(path);
 }
 
 size_t writeEventsBag(rosbag::Bag& bag, const std::string& topic, const EventVector& events, uint32_t width,

@@ -8,7 +8,7 @@
 
 namespace dvs_driver
 {
-std::unique_ptr<EventSource> openEventFile(const std::string& path)
+std::unique_ptr<EventSource> openEventFileSource(const std::string& path)
 {
   struct stat st;
   if (::stat(path.c_str(), &st) == 0 && S_ISDIR(st.st_mode))

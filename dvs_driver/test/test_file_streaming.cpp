@@ -100,7 +100,7 @@ TEST(FileStreaming, TextFileLargerThanTheQueueArrivesCompletelyInOrder)
   const EventVector ev = makeEvents(200000);
   const std::string path = tempPath("big.txt");
   dvs_driver::writeEventsText(path, ev);
-  auto source = dvs_driver::openEventFile(path);
+  auto source = dvs_driver::openEventFileSource(path);
   EXPECT_EQ(0u, source->info().width);  // a text file does not say; the probe finds it
   uint32_t w = 0, h = 0;
   std::string sensor;
@@ -163,7 +163,7 @@ TEST(FileStreaming, LoopedFileKeepsTimeIncreasing)
   dvs_driver::writeEventsText(path, ev);
   auto o = smallQueue();
   o.loop = true;
-  dvs_driver::FileReplay replay(dvs_driver::openEventFile(path), o);
+  dvs_driver::FileReplay replay(dvs_driver::openEventFileSource(path), o);
   Collect c;
   replay.start(c);
   ASSERT_TRUE(c.waitFor([&] { return c.events.size() >= 3 * ev.size(); }));
@@ -191,7 +191,7 @@ TEST(FileStreaming, StopsCleanlyInTheMiddleOfAFile)
   Collect c;
   const auto t0 = std::chrono::steady_clock::now();
   {
-    dvs_driver::FileReplay replay(dvs_driver::openEventFile(path), o);
+    dvs_driver::FileReplay replay(dvs_driver::openEventFileSource(path), o);
     replay.start(c);
     ASSERT_TRUE(c.waitFor([&] { return !c.events.empty(); }));
   }  // destructor: stops and joins both threads
@@ -210,7 +210,7 @@ TEST(FileStreaming, UnreadableFilesGiveErrorsNamingThem)
   auto errorOf = [](const std::string& path) {
     try
     {
-      dvs_driver::openEventFile(path);
+      dvs_driver::openEventFileSource(path);
     }
     catch (const dvs_driver::EventFileError& e)
     {
@@ -244,7 +244,7 @@ TEST(FileStreaming, MalformedLinePartWayThroughIsReportedAfterTheEventsBeforeIt)
     dvs_driver::writeEventsText(out, ev);
     out << "0.9 1 2 7\n";  // line 12501: bad polarity
   }
-  dvs_driver::FileReplay replay(dvs_driver::openEventFile(path), smallQueue());
+  dvs_driver::FileReplay replay(dvs_driver::openEventFileSource(path), smallQueue());
   Collect c;
   replay.start(c);
   ASSERT_TRUE(c.waitFor([&] { return c.ended || !c.error.empty(); }));

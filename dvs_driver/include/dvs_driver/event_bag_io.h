@@ -85,7 +85,7 @@ private:
   EventSourceInfo info_;
 };
 
-/// Any recorded event file for streaming: a `.bag` (topic `topic`) or what openEventFile opens.
+/// Any recorded event file for streaming: a `.bag` (topic `topic`) or what openEventFileSource opens.
 std::unique_ptr<EventSource> openEventSource(const std::string& path, const std::string& topic = kDefaultEventTopic);
 
 /// Write events (sorted by time) to an open bag on `topic`, split into fixed-period packets:

@@ -42,7 +42,7 @@ public:
 /// Opens an AEDAT 2.0 (`.aedat`, `.dat`) or events.txt file (anything else) for streaming.
 /// Throws EventFileError naming the file when it cannot be opened or its header is malformed;
 /// a `.bag` path throws (use openEventSource or BagEventSource, library dvs_driver_ros).
-std::unique_ptr<EventSource> openEventFile(const std::string& path);
+std::unique_ptr<EventSource> openEventFileSource(const std::string& path);
 
 /// Events already in memory as a source.
 class MemoryEventSource : public EventSource

@@ -2,6 +2,7 @@
 #include <dvs_driver/formats/aedat3.h>
 #include <dvs_driver/formats/aedat4.h>
 #include <dvs_driver/formats/event_format.h>
+#include <dvs_driver/formats/hdf5_events.h>
 #include <dvs_driver/formats/prophesee_raw.h>
 
 #include <cerrno>
@@ -152,8 +153,9 @@ std::unique_ptr<EventFileReader> openEventFileReader(const std::string& path)
       {
         throw EventFormatError(e.what());
       }
-    case EventFormat::RosBag1:
     case EventFormat::Hdf5:
+      return formats::openHdf5Events(path);
+    case EventFormat::RosBag1:
     case EventFormat::Sqlite:
       throw EventFormatError(path + ": " + eventFormatName(f) + " files are not read by openEventFileReader" +
                              (f == EventFormat::RosBag1 ? " (dvs_msgs bags: event_bag_io.h)" : ""));

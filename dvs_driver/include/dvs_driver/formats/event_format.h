@@ -30,7 +30,7 @@ enum class EventFormat
   Aedat4,     ///< `#!AER-DAT4.0`
   PropheseeRaw,  ///< `% ` header lines (EVT 2.0 / 3.0 chosen by the header)
   RosBag1,       ///< `#ROSBAG V2.0` (read by event_bag_io.h, not by openEventFileReader)
-  Hdf5,          ///< HDF5 signature (not read yet)
+  Hdf5,          ///< HDF5 signature (DSEC / flat layouts: formats/hdf5_events.h)
   Sqlite         ///< `SQLite format 3` (e.g. a ROS 2 bag; not read)
 };
 
