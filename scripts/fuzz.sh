@@ -3,7 +3,8 @@
 #   scripts/fuzz.sh [SECONDS]   run each target for SECONDS (default 60); exit 1 on any finding
 # Targets (fuzz/targets/): events.txt, AEDAT 2.0, the DVS128 USB decoder, camera files (calib.txt
 # and camera_info YAML), line map YAML, the tracker's parameter YAML, serialized EventArray
-# messages. Seed corpora come from ../shared/data and the project's own config files; findings
+# messages, the event file formats (Prophesee RAW EVT 2.0/3.0, AEDAT 4.0, AEDAT 3.1) and
+# event_camera_msgs/EventPacket payloads (evt3, mono, libcaer). Seed corpora come from ../shared/data and the project's own config files; findings
 # (crash-*, leak-*, timeout-*) land in build_fuzz/findings/<target>/ with the libFuzzer log.
 # Needs a catkin build first for the EventArray target (scripts/setup.sh builds one).
 set -uo pipefail
@@ -39,10 +40,22 @@ seed fuzz_camera_files "$tmp/camera.yaml" "$tmp/calib_selected.txt"
 seed fuzz_line_map "$root"/dvs_line_tracker/config/square_map.yaml
 seed fuzz_tracker_params "$root"/dvs_line_tracker/config/thesis_params.yaml
 seed fuzz_event_array "$tmp/events.txt"
+# Format seeds: the header byte (0 EVT 3.0, 1 EVT 2.0, 2 AEDAT 4.0, 3 AEDAT 3.1, 4 as is) then the
+# data after the real samples' headers.
+fseed() {  # target, selector byte (octal), file, header bytes to skip
+  local dir="$build/corpus/$1"; mkdir -p "$dir"
+  [ -f "$3" ] && { printf "\\$2"; tail -c +$(( $4 + 1 )) "$3" | head -c 65536; } > "$dir/seed_$(basename "$3")"
+}
+fseed fuzz_event_formats 000 "$data/formats/prophesee_evt3_gen41_1280x720.raw" 166
+fseed fuzz_event_formats 001 "$data/formats/prophesee_evt2_gen3_640x480.raw" 164
+fseed fuzz_event_formats 004 "$data/formats/dvxplorer_320x240.aedat4" 0
+fseed fuzz_event_formats 004 "$data/formats/davis346_346x260.aedat4" 0
+fseed fuzz_event_packet 000 "$data/formats/prophesee_evt3_gen41_1280x720.raw" 166
 
 status=0
 ok=0 bad=0
-for target in fuzz_events_text fuzz_aedat2 fuzz_dvs128_decoder fuzz_camera_files fuzz_line_map fuzz_tracker_params fuzz_event_array; do
+for target in fuzz_events_text fuzz_aedat2 fuzz_dvs128_decoder fuzz_camera_files fuzz_line_map fuzz_tracker_params \
+              fuzz_event_array fuzz_event_formats fuzz_event_packet; do
   exe="$build/$target"
   if [ ! -x "$exe" ]; then echo "fuzz: $target was not built" >&2; status=1; bad=$(( bad + 1 )); continue; fi
   findings="$build/findings/$target"; mkdir -p "$findings" "$build/corpus/$target"
