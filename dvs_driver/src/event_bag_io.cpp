@@ -1,6 +1,7 @@
 #include <dvs_driver/checked_bag.h>
 #include <dvs_driver/event_bag_io.h>
 #include <dvs_driver/event_file.h>
+#include <dvs_driver/formats/reader_source.h>
 
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
@@ -260,7 +261,20 @@ std::unique_ptr<EventSource> openEventSource(const std::string& path, const std:
 {
   if (eventFileFormat(path) == EventFileFormat::Bag)
     return std::unique_ptr<EventSource>(new BagEventSource(path, topic));
-  return openEventFileSource(path);
+  // The formats told apart by their first bytes (Prophesee RAW, AEDAT 3.1/4.0, HDF5); AEDAT 2.0
+  // and events.txt as before.
+  switch (detectEventFormat(path))
+  {
+    case EventFormat::PropheseeRaw:
+    case EventFormat::Aedat3:
+    case EventFormat::Aedat4:
+    case EventFormat::Hdf5:
+      return std::unique_ptr<EventSource>(new FormatReaderSource(path));
+    case EventFormat::RosBag1:
+      return std::unique_ptr<EventSource>(new BagEventSource(path, topic));
+    default:
+      return openEventFileSource(path);
+  }
 }
 
 size_t writeEventsBag(rosbag::Bag& bag, const std::string& topic, const EventVector& events, uint32_t width,

@@ -3,6 +3,7 @@
 #include <dvs_driver/event_text_io.h>
 
 #include <algorithm>
+#include <fstream>
 
 namespace dvs_driver
 {
@@ -22,6 +23,16 @@ EventFileFormat eventFileFormat(const std::string& path)
   if (endsWith(path, ".aedat") || endsWith(path, ".dat"))
     return EventFileFormat::Aedat;
   if (endsWith(path, ".bag"))
+    return EventFileFormat::Bag;
+  // Any other name: an AEDAT 2.0 file or a bag still says so in its first bytes.
+  char head[16] = {0};
+  std::ifstream in(path, std::ios::binary);
+  if (in)
+    in.read(head, sizeof(head));
+  const std::string start(head, static_cast<size_t>(in ? sizeof(head) : in.gcount()));
+  if (start.compare(0, 10, "#!AER-DAT2") == 0)
+    return EventFileFormat::Aedat;
+  if (start.compare(0, 13, "#ROSBAG V2.0\n") == 0)
     return EventFileFormat::Bag;
   return EventFileFormat::Text;
 }

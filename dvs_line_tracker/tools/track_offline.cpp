@@ -6,6 +6,7 @@
 #include <dvs_calibration/camera_model.h>
 #include <dvs_driver/aedat_reader.h>
 #include <dvs_driver/checked_write.h>
+#include <dvs_driver/recording.h>
 #include <dvs_driver/event_validation.h>
 #include <dvs_driver/event_bag_io.h>
 #include <dvs_driver/event_text_io.h>
@@ -27,7 +28,9 @@ namespace
 {
 void usage()
 {
-  std::cerr << "usage: track_offline (--events events.txt | --bag FILE [--topic /dvs/events] | --aedat FILE)\n"
+  std::cerr << "usage: track_offline (--events FILE | --bag FILE [--topic /dvs/events] | --aedat FILE)\n"
+               "                     FILE: any recording (events.txt, AEDAT 2.0/3.1/4.0, Prophesee RAW, HDF5, bag),\n"
+               "                     its format detected from its bytes\n"
                "                     (--calib calib.txt | --camera-info FILE.yaml | --preset dvs128)\n"
                "                     [--width 128 --height 128] [--map map.yaml] --out trajectory.txt\n"
                "                     [--params params.yaml] [--solver incremental|full] [--buffer-size N]\n"
@@ -126,15 +129,20 @@ int main(int argc, char** argv)
     // Inputs (parsing is not part of the processing time).
     dvs_driver::EventStream stream;
     dvs_driver::EventChecks input_checks;
-    if (args.has("events"))
-      stream.events = dvs_driver::readEventsText(args.get("events"));
-    else if (args.has("bag"))
-      stream = dvs_driver::readEventsBag(args.get("bag"), args.get("topic", "/dvs/events"));
-    else
     {
-      dvs_driver::AedatRecording recording = dvs_driver::readAedat(args.get("aedat"));
-      stream = std::move(recording.stream);
-      input_checks = recording.info.checks;  // what the reader repaired or skipped
+      // Any recording, its format detected from its bytes (--bag and --aedat are the same option).
+      dvs_driver::Recording recording = dvs_driver::readRecording(inputName(args), args.get("topic", "/dvs/events"));
+      std::cerr << "track_offline: " << inputName(args) << ": " << recording.format << ", "
+                << recording.contents.stream.events.size() << " events"
+                << (recording.contents.stream.width > 0
+                        ? ", " + std::to_string(recording.contents.stream.width) + "x" +
+                              std::to_string(recording.contents.stream.height)
+                        : std::string(", no sensor size in the file"))
+                << "\n";
+      for (const std::string& w : recording.warnings)
+        std::cerr << "track_offline: warning: " << inputName(args) << ": " << w << "\n";
+      stream = std::move(recording.contents.stream);
+      input_checks = recording.contents.checks;  // what the reader repaired or skipped
     }
 
     // The sensor size: from the recording when it says, else --width/--height, else a

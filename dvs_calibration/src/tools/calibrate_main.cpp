@@ -7,6 +7,7 @@
 #include <dvs_calibration/event_image.h>
 #include <dvs_driver/aedat_reader.h>
 #include <dvs_driver/event_bag_io.h>
+#include <dvs_driver/recording.h>
 #include <dvs_driver/event_text_io.h>
 
 #include <opencv2/imgcodecs.hpp>
@@ -21,7 +22,8 @@ namespace
 {
 const char* kUsage = R"(usage: calibrate (--events FILE | --bag FILE [--topic /dvs/events] | --aedat FILE) --grid CxR --spacing METRES --out camera.yaml
                  [--width W --height H] [options]
-  --events FILE             Event Camera Dataset events.txt (t x y p)
+  --events FILE             any recording, its format detected from its bytes: events.txt (t x y p),
+                            AEDAT 2.0/3.1/4.0, Prophesee RAW EVT 2.0/3.0, HDF5, a dvs_msgs bag
   --bag FILE                rosbag with dvs_msgs/EventArray on --topic (default /dvs/events)
   --aedat FILE              jAER AEDAT 2.0 recording (DVS128, DAVIS240/346)
   --grid CxR                circles: columns x rows (default 7x7)
@@ -129,12 +131,16 @@ int main(int argc, char** argv)
     config.max_motion_px = parseDouble("max-motion", args.get("max-motion", "0.5"));
     config.calibrator.estimate_k3 = args.has("estimate-k3");
 
-    if (args.has("events"))
-      stream.events = dvs_driver::readEventsText(args.get("events"));
-    else if (args.has("bag"))
-      stream = dvs_driver::readEventsBag(args.get("bag"), args.get("topic", dvs_driver::kDefaultEventTopic));
-    else
-      stream = dvs_driver::readAedat(args.get("aedat")).stream;
+    {
+      // Any recording, its format detected from its bytes (--bag and --aedat are the same option).
+      const std::string input = args.has("events") ? args.get("events") : args.has("bag") ? args.get("bag") : args.get("aedat");
+      dvs_driver::Recording recording = dvs_driver::readRecording(input, args.get("topic", dvs_driver::kDefaultEventTopic));
+      std::cerr << "calibrate: " << input << ": " << recording.format << ", " << recording.contents.stream.events.size()
+                << " events\n";
+      for (const std::string& w : recording.warnings)
+        std::cerr << "calibrate: warning: " << input << ": " << w << "\n";
+      stream = std::move(recording.contents.stream);
+    }
     config.width = stream.width > 0 ? static_cast<int>(stream.width) : 128;
     config.height = stream.height > 0 ? static_cast<int>(stream.height) : 128;
     if (args.has("width"))

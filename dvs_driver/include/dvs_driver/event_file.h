@@ -15,7 +15,9 @@ enum class EventFileFormat
   Bag
 };
 
-/// Format from the file name: `.aedat` -> Aedat, `.bag` -> Bag, anything else -> Text.
+/// Format from the file name (`.aedat`/`.dat` -> Aedat, `.bag` -> Bag), else from its first bytes
+/// (`#!AER-DAT2` -> Aedat, `#ROSBAG V2.0` -> Bag), else Text. The other formats:
+/// formats/event_format.h (detectEventFormat), all together: recording.h.
 EventFileFormat eventFileFormat(const std::string& path);
 
 struct EventFileContents

@@ -1,7 +1,7 @@
 // rosrun dvs_driver convert --input IN --output OUT [--zero-time] [--width W --height H]
 //                           [--topic T] [--packet-period S]
-// IN: .aedat (2.0), events.txt (or a .bag with dvs_msgs/EventArray); OUT: events.txt or .bag
-// (topic /dvs/events, 1 ms packets). Prints a one-line JSON summary on stdout:
+// IN: any recording (recording.h: AEDAT 2.0/3.1/4.0, Prophesee RAW, HDF5, dvs_msgs bags,
+// events.txt); OUT by extension: .aedat4, .raw (EVT 3.0), .h5/.hdf5, .bag (1 ms packets), else events.txt. Prints a one-line JSON summary on stdout:
 // {"events":N,"span_s":S,"width":W,"height":H,"sensor":"DVS128","skipped_words":K,...}
 // Bad input: a message naming the file and the problem, exit status 1; bad usage: status 2.
 #include <dvs_driver/checked_write.h>
@@ -10,6 +10,10 @@
 #include <dvs_driver/event_file.h>
 #include <dvs_driver/event_text_io.h>
 #include <dvs_driver/event_validation.h>
+#include <dvs_driver/formats/aedat4.h>
+#include <dvs_driver/formats/hdf5_events.h>
+#include <dvs_driver/formats/prophesee_raw.h>
+#include <dvs_driver/recording.h>
 
 #include <cstdio>
 #include <cstdlib>
@@ -33,8 +37,8 @@ struct Options
 dvs_driver::ParamTable optionTable(Options& o)
 {
   dvs_driver::ParamTable t("convert");
-  t.add("--input", o.input, {}, "the recording: .aedat (AEDAT 2.0), events.txt or .bag");
-  t.add("--output", o.output, {}, "events.txt (any name not ending in .bag) or .bag");
+  t.add("--input", o.input, {}, "the recording, any readable format (detected from its bytes)");
+  t.add("--output", o.output, {}, "by its extension: .aedat4, .raw, .h5/.hdf5, .bag, else events.txt");
   t.add("--topic", o.topic, {}, "bag topic");
   t.add("--packet-period", o.period_s, "s", 1e-6, 3600, "bag packet period");
   t.add("--packet-period-ms", o.period_ms, "ms", 1e-3, 3.6e6, "deprecated: the bag packet period in milliseconds");
@@ -50,11 +54,31 @@ dvs_driver::ParamTable optionTable(Options& o)
   return t;
 }
 
+/// The output format from the output's extension: aedat4, raw (EVT 3.0), hdf5, bag or text.
+std::string outputFormat(const std::string& path)
+{
+  auto ends = [&](const char* ext) {
+    const std::string e(ext);
+    return path.size() >= e.size() && path.compare(path.size() - e.size(), e.size(), e) == 0;
+  };
+  if (ends(".aedat4"))
+    return "aedat4";
+  if (ends(".raw"))
+    return "raw";
+  if (ends(".h5") || ends(".hdf5"))
+    return "hdf5";
+  if (ends(".bag"))
+    return "bag";
+  return "text";
+}
+
 void usage(std::ostream& os)
 {
   os << "usage: convert --input IN --output OUT [options]\n"
-        "  IN   .aedat (jAER AEDAT 2.0: DVS128, DAVIS240/346 DVS events), events.txt, or .bag\n"
-        "  OUT  events.txt (any name not ending in .bag) or .bag (dvs_msgs/EventArray packets)\n"
+        "  IN   any recording, its format detected from its bytes: AEDAT 2.0 / 3.1 / 4.0, Prophesee RAW\n"
+        "       (EVT 2.0 / 3.0), HDF5 (DSEC or flat x,y,t,p), a .bag of dvs_msgs/EventArray, events.txt\n"
+        "  OUT  by its extension: .aedat4 (AEDAT 4.0, LZ4), .raw (Prophesee EVT 3.0), .h5/.hdf5 (flat\n"
+        "       x,y,t,p), .bag (dvs_msgs/EventArray packets), anything else events.txt\n"
         "options:\n"
         "  --topic T               bag topic (default /dvs/events)\n"
         "  --packet-period S       bag packet period in seconds (default 0.001, 1e-6 to 3600)\n"
@@ -161,11 +185,11 @@ int main(int argc, char** argv)
   try
   {
     checkMemory(input);
-    dvs_driver::EventFileContents in;
-    if (dvs_driver::eventFileFormat(input) == dvs_driver::EventFileFormat::Bag)
-      in.stream = dvs_driver::readEventsBag(input, o.topic);
-    else
-      in = dvs_driver::readEventFile(input);
+    // Any recording, its format detected from its bytes (recording.h).
+    dvs_driver::Recording recording = dvs_driver::readRecording(input, o.topic);
+    dvs_driver::EventFileContents& in = recording.contents;
+    for (const std::string& w : recording.warnings)
+      std::cerr << "convert: warning: " << input << ": " << w << "\n";
     dvs_driver::EventStream& s = in.stream;
     if (o.width > 0)
     {
@@ -201,7 +225,10 @@ int main(int argc, char** argv)
                                        " sensor (the first, event " + num(first_outside) + ", at pixel (" +
                                        std::to_string(e.x) + ", " + std::to_string(e.y) + "))");
     }
-    if (found.backwards > 0)
+    // events.txt and bags must be in time order (their readers refuse anything else); the
+    // binary formats keep the file's order (real EVT 3.0 files step back by a few us), warned.
+    const std::string out_kind = outputFormat(output);
+    if (found.backwards > 0 && (out_kind == "text" || out_kind == "bag"))
       throw dvs_driver::EventFileError(input + ": time goes backwards at " + num(found.backwards) +
                                        (found.backwards == 1 ? " event" : " events") + " (by up to " +
                                        std::to_string(found.max_backwards_ns * 1e-9) + " s; the first at event " +
@@ -231,7 +258,33 @@ int main(int argc, char** argv)
         e.t_ns += offset_ns;
     }
     size_t packets = 0;
-    if (dvs_driver::eventFileFormat(output) == dvs_driver::EventFileFormat::Bag)
+    const std::string out_format = outputFormat(output);
+    if (out_format == "aedat4" || out_format == "raw" || out_format == "hdf5")
+    {
+      // The writers of the format readers (exact round trips; times in microseconds).
+      if (!s.events.empty() && s.events.front().t_ns < 0)
+        throw dvs_driver::EventFileError(input + ": time stamps are negative (first " +
+                                         std::to_string(s.events.front().t_ns) + " ns): add --zero-time");
+      if (out_format == "aedat4")
+      {
+        dvs_driver::formats::Aedat4Writer w(output, s.width, s.height);
+        w.write(s.events);
+        w.close();
+      }
+      else if (out_format == "raw")
+      {
+        dvs_driver::formats::Evt3Writer w(output, s.width, s.height);
+        w.write(s.events);
+        w.close();
+      }
+      else
+      {
+        dvs_driver::formats::Hdf5Writer w(output, s.width, s.height);
+        w.write(s.events);
+        w.close();
+      }
+    }
+    else if (dvs_driver::eventFileFormat(output) == dvs_driver::EventFileFormat::Bag)
     {
       if (!s.events.empty() && s.events.front().t_ns < 0)
         throw dvs_driver::EventFileError(input + ": time stamps are negative (first " +
@@ -245,9 +298,10 @@ int main(int argc, char** argv)
     const double span = s.events.empty() ? 0.0 : (s.events.back().t_ns - s.events.front().t_ns) * 1e-9;
     char buf[512];
     std::snprintf(buf, sizeof(buf),
-                  "{\"events\":%zu,\"span_s\":%.6f,\"width\":%u,\"height\":%u,\"sensor\":%s,\"skipped_words\":%llu,"
+                  "{\"format\":%s,\"events\":%zu,\"span_s\":%.6f,\"width\":%u,\"height\":%u,\"sensor\":%s,\"skipped_words\":%llu,"
                   "\"truncated_bytes\":%zu,\"packets\":%zu,\"time_offset_ns\":%lld,",
-                  s.events.size(), span, s.width, s.height, jsonString(in.sensor_name).c_str(),
+                  jsonString(recording.format).c_str(), s.events.size(), span, s.width, s.height,
+                  jsonString(in.sensor_name).c_str(),
                   static_cast<unsigned long long>(in.skipped), in.truncated_bytes, packets,
                   static_cast<long long>(offset_ns));
     std::cout << buf << "\"records\":" << a.records << ",\"skipped\":{\"sync\":" << a.sync_events

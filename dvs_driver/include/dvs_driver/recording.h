@@ -1,0 +1,28 @@
+#pragma once
+// Any recorded event file, its format detected from its bytes (library dvs_driver_ros: bags need
+// rosbag): dvs_msgs bags, AEDAT 2.0 and events.txt (event_file.h), and the formats of
+// formats/event_format.h (Prophesee RAW EVT 2.0/3.0, AEDAT 3.1 and 4.0, HDF5). The one entry
+// point of the offline tools (convert, track_offline, calibrate); the driver's file source
+// streams the same files through openEventSource (event_bag_io.h).
+#include <dvs_driver/event_file.h>
+
+#include <string>
+#include <vector>
+
+namespace dvs_driver
+{
+struct Recording
+{
+  EventFileContents contents;         ///< events, size (0: unknown), sensor name, repairs and skips
+  std::string format;                 ///< "events.txt", "AEDAT 2.0", "ROS bag", "Prophesee RAW EVT 3.0", ...
+  std::vector<std::string> warnings;  ///< what the reader noticed (damaged packets, truncation, ...)
+};
+
+/// Read a whole recording (`topic` for bags). Throws EventFileError (or a subclass) naming the
+/// file and the problem; a truncated file gives every complete event before the damage and a
+/// warning with the byte offset.
+Recording readRecording(const std::string& path, const std::string& topic = "/dvs/events");
+
+/// The format readRecording / openEventSource will use for `path` (for messages).
+std::string recordingFormatName(const std::string& path);
+}  // namespace dvs_driver
