@@ -42,13 +42,13 @@ if [ $quick -eq 1 ]; then
   make -C build -j2 tests > build/build_tests.log 2>&1 || {
     tail -n 30 build/build_tests.log; echo "test: building the tests failed (build/build_tests.log)"
     echo "0 passed, 1 failed"; exit 1; }
-  (cd build && ctest -R _gtest_ -LE slow --output-on-failure) 2>&1 | tee build/run_tests.log | \
-    grep -E "^ *[0-9]+/[0-9]+ Test|tests passed|tests failed|\[ *FAILED *\]|Failure|error:" || true
-  run_status=${PIPESTATUS[0]}
+  (cd build && ctest -R _gtest_ -LE slow --output-on-failure) > build/run_tests.log 2>&1
+  run_status=$?  # (not through a pipe: with pipefail, `|| true` would reset PIPESTATUS)
+  grep -E "^ *[0-9]+/[0-9]+ Test|tests passed|tests failed|\[ *FAILED *\]|Failure|error:" build/run_tests.log || true
 else
-  catkin_make --source . -DPYTHON_EXECUTABLE=/usr/bin/python3 -j2 run_tests -j1 2>&1 | tee build/run_tests.log | \
-    grep -E "^\[ *(RUN|OK|FAILED|PASSED) *\]|^\[ROSTEST\]|^(SUMMARY|FAILURE)|Error|error:" || true
-  run_status=${PIPESTATUS[0]}
+  catkin_make --source . -DPYTHON_EXECUTABLE=/usr/bin/python3 -j2 run_tests -j1 > build/run_tests.log 2>&1
+  run_status=$?
+  grep -E "^\[ *(RUN|OK|FAILED|PASSED) *\]|^\[ROSTEST\]|^(SUMMARY|FAILURE)|Error|error:" build/run_tests.log || true
 fi
 
 catkin_test_results build/test_results --all > build/test_summary.log 2>&1
