@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <fstream>
 #include <random>
+#include <unistd.h>
 
 using dvs_calibration::CameraIntrinsics;
 using dvs_calibration::CameraModel;
@@ -246,4 +247,25 @@ TEST(CameraFile, OneRuleForCalibTxtAndYaml)
     EXPECT_NE(std::string(e.what()).find("the file says 240x180 pixels but 128x128 was given"), std::string::npos)
         << e.what();
   }
+}
+
+TEST(CameraFile, WritesOnAFullDiskAreNamedErrors)
+{
+  // The calibration result and the simulator's calib files go through the checked writer.
+  const std::string link = tempPath("full_camera.yaml");
+  std::remove(link.c_str());
+  ASSERT_EQ(::symlink("/dev/full", link.c_str()), 0);
+  try
+  {
+    dvs_calibration::saveCameraInfoYaml(link, dvs_calibration::CameraModel::dvs128(), "dvs");
+    FAIL() << "a write to a full disk reported success";
+  }
+  catch (const dvs_calibration::CameraModelError& e)
+  {
+    EXPECT_NE(std::string(e.what()).find("full_camera.yaml"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("No space left on device"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(dvs_calibration::saveCalibTxt("/nonexistent_folder_xyz/calib.txt", dvs_calibration::CameraModel::dvs128()),
+               dvs_calibration::CameraModelError);
+  std::remove(link.c_str());
 }

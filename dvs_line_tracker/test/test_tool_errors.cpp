@@ -170,3 +170,18 @@ TEST(ToolErrors, TrackOfflineSaysWhatIsWrongWithItsInput)
   EXPECT_NE(r.err.find(garbage), std::string::npos) << r.err;
   fs::remove(garbage);
 }
+
+TEST(ToolErrors, PythonToolsGiveOneLineErrorsNotTracebacks)
+{
+  // dvs_launch's scripts (the demo report, the metric's plot, bag conversion) on missing inputs.
+  const std::string py = std::string("/usr/bin/python3 ") + LAUNCH_SCRIPTS_DIR;
+  for (const std::string& cmd : {py + "/bag_to_tum.py /nonexistent/run.bag /pose /tmp/out.tum",
+                                 py + "/evaluate_trajectory.py --gt /nonexistent/gt.txt --est /nonexistent/est.txt",
+                                 py + "/demo_report.py /nonexistent_demo_dir"})
+  {
+    const Result r = run(cmd);
+    EXPECT_EQ(r.exit_code, 1) << cmd << "\n" << r.err;
+    EXPECT_EQ(r.err.find("Traceback"), std::string::npos) << cmd << "\n" << r.err;
+    EXPECT_NE(r.err.find("/nonexistent"), std::string::npos) << cmd << "\n" << r.err;
+  }
+}
