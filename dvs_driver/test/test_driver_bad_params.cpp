@@ -3,6 +3,7 @@
 // a recording with bad events (duplicated lines) is replayed with its counters in the driver's
 // diagnostics at WARN and a warning in the log.
 #include <gtest/gtest.h>
+#include <dvs_driver/testing/node_test_support.h>
 #include <nodelet/loader.h>
 #include <ros/ros.h>
 #include <diagnostic_msgs/DiagnosticArray.h>
@@ -20,49 +21,10 @@
 
 namespace
 {
-struct NodeRun
-{
-  int status = -1;
-  std::string output;
-};
-
 // Runs dvs_driver_node (the executable itself, no nodelet manager) with `args`, output captured.
-NodeRun runNode(const std::string& args)
+dvs_driver::testing::ProcessRun runNode(const std::string& args)
 {
-  NodeRun r;
-  const std::string cmd = std::string(DRIVER_NODE) + " " + args + " 2>&1";
-  FILE* p = ::popen(cmd.c_str(), "r");
-  if (!p)
-    return r;
-  std::array<char, 4096> buf;
-  size_t n;
-  while ((n = std::fread(buf.data(), 1, buf.size(), p)) > 0)
-    r.output.append(buf.data(), n);
-  const int st = ::pclose(p);
-  r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-  return r;
-}
-
-std::mutex g_mutex;
-std::condition_variable g_cv;
-std::vector<std::string> g_log;
-
-void rosoutCallback(const rosgraph_msgs::Log::ConstPtr& m)
-{
-  std::lock_guard<std::mutex> lock(g_mutex);
-  g_log.push_back(m->msg);
-  g_cv.notify_all();
-}
-
-bool waitForLog(const std::string& text)
-{
-  std::unique_lock<std::mutex> lock(g_mutex);
-  return g_cv.wait_for(lock, std::chrono::seconds(20), [&] {
-    for (const auto& s : g_log)
-      if (s.find(text) != std::string::npos)
-        return true;
-    return false;
-  });
+  return dvs_driver::testing::runProcess(std::string(DRIVER_NODE) + " " + args);
 }
 
 bool loadNodelet(nodelet::Loader& loader, const std::string& name)
@@ -80,14 +42,14 @@ bool loadNodelet(nodelet::Loader& loader, const std::string& name)
 
 TEST(DriverBadParams, NodePrintsTheOutOfRangeParameterAndExits)
 {
-  const NodeRun r = runNode("__name:=bad_node_period _packet_period:=5.0");
+  const auto r = runNode("__name:=bad_node_period _packet_period:=5.0");
   EXPECT_EQ(1, r.status) << r.output;
   EXPECT_NE(std::string::npos, r.output.find("packet_period must be in [1e-05, 1] s (got 5)")) << r.output;
 }
 
 TEST(DriverBadParams, NodePrintsAnUnreadableFile)
 {
-  const NodeRun r = runNode("__name:=bad_node_file _file:=/nonexistent/rec.aedat");
+  const auto r = runNode("__name:=bad_node_file _file:=/nonexistent/rec.aedat");
   EXPECT_EQ(1, r.status) << r.output;
   EXPECT_NE(std::string::npos, r.output.find("parameter ~file: /nonexistent/rec.aedat: cannot open")) << r.output;
 }
@@ -95,25 +57,25 @@ TEST(DriverBadParams, NodePrintsAnUnreadableFile)
 TEST(DriverBadParams, NodeletLogsTheOutOfRangeParameterAndFailsToLoad)
 {
   ros::NodeHandle nh;
-  ros::Subscriber sub = nh.subscribe("/rosout", 1000, rosoutCallback);
+  dvs_driver::testing::RosoutLog log(nh);
   ros::param::set("/bad_nodelet/transfers", 65);
   nodelet::Loader loader(false);
   EXPECT_FALSE(loadNodelet(loader, "/bad_nodelet"));
-  EXPECT_TRUE(waitForLog("transfers must be in [1, 64] (got 65)"));
+  EXPECT_TRUE(log.waitFor("transfers must be in [1, 64] (got 65)"));
 }
 
 TEST(DriverBadParams, UnknownNameIsWarnedAboutAndDeprecatedAliasRead)
 {
   ros::NodeHandle nh;
-  ros::Subscriber sub = nh.subscribe("/rosout", 1000, rosoutCallback);
+  dvs_driver::testing::RosoutLog log(nh);
   ros::param::set("/typo_nodelet/file", std::string(DVS_REAL_DATA_DIR "/ucsd_alex_walking_again.aedat"));
   ros::param::set("/typo_nodelet/wait_for_subscriber", true);
   ros::param::set("/typo_nodelet/replay_sped", 2.0);
   ros::param::set("/typo_nodelet/packet_period_ms", 5.0);
   nodelet::Loader loader(false);
   ASSERT_TRUE(loadNodelet(loader, "/typo_nodelet"));
-  EXPECT_TRUE(waitForLog("unknown parameter /typo_nodelet/replay_sped ignored"));
-  EXPECT_TRUE(waitForLog("packet_period_ms is deprecated: set ~packet_period: 0.005 (seconds) instead"));
+  EXPECT_TRUE(log.waitFor("unknown parameter /typo_nodelet/replay_sped ignored"));
+  EXPECT_TRUE(log.waitFor("packet_period_ms is deprecated: set ~packet_period: 0.005 (seconds) instead"));
   double period = 0;
   EXPECT_TRUE(ros::param::get("/typo_nodelet/packet_period", period));  // what dynamic_reconfigure serves
   EXPECT_DOUBLE_EQ(0.005, period);
@@ -134,7 +96,7 @@ TEST(DriverBadInput, ReplayCountersInDiagnosticsAtWarnAndALoggedWarning)
   diagnostic_msgs::DiagnosticStatus found;
   bool have = false;
   ros::NodeHandle nh;
-  ros::Subscriber log_sub = nh.subscribe("/rosout", 1000, rosoutCallback);
+  dvs_driver::testing::RosoutLog log(nh);
   ros::Subscriber diag_sub = nh.subscribe<diagnostic_msgs::DiagnosticArray>(
       "/diagnostics", 100, [&](const diagnostic_msgs::DiagnosticArray::ConstPtr& a) {
         for (const auto& st : a->status)
@@ -165,7 +127,7 @@ TEST(DriverBadInput, ReplayCountersInDiagnosticsAtWarnAndALoggedWarning)
       EXPECT_EQ("300", kv.value);
     }
   EXPECT_TRUE(counter);
-  EXPECT_TRUE(waitForLog(path + ": 300 exact duplicates (50% of 600 events)"));
+  EXPECT_TRUE(log.waitFor(path + ": 300 exact duplicates (50% of 600 events)"));
   loader.unload("/bad_input_nodelet");
   std::remove(path.c_str());
 }

@@ -2,6 +2,7 @@
 // prints the reason and exits 1 (it used to exit 1 with no output at all); a misspelt parameter
 // name is warned about (the YAML path refuses it, the ROS path used to ignore it silently).
 #include <gtest/gtest.h>
+#include <dvs_driver/testing/node_test_support.h>
 #include <dvs_line_tracker/tracker_ros.h>
 #include <ros/ros.h>
 #include <rosgraph_msgs/Log.h>
@@ -17,61 +18,23 @@
 
 namespace
 {
-struct NodeRun
-{
-  int status = -1;
-  std::string output;
-};
-
 // Runs tracker_node (its own process) with `args`, stdout and stderr captured.
-NodeRun runNode(const std::string& args)
+dvs_driver::testing::ProcessRun runNode(const std::string& args)
 {
-  NodeRun r;
-  FILE* p = ::popen((std::string(TRACKER_NODE) + " " + args + " 2>&1").c_str(), "r");
-  if (!p)
-    return r;
-  std::array<char, 4096> buf;
-  size_t n;
-  while ((n = std::fread(buf.data(), 1, buf.size(), p)) > 0)
-    r.output.append(buf.data(), n);
-  const int st = ::pclose(p);
-  r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-  return r;
-}
-
-std::mutex g_mutex;
-std::condition_variable g_cv;
-std::vector<std::string> g_log;
-
-void rosoutCallback(const rosgraph_msgs::Log::ConstPtr& m)
-{
-  std::lock_guard<std::mutex> lock(g_mutex);
-  g_log.push_back(m->msg);
-  g_cv.notify_all();
-}
-
-bool waitForLog(const std::string& text)
-{
-  std::unique_lock<std::mutex> lock(g_mutex);
-  return g_cv.wait_for(lock, std::chrono::seconds(30), [&] {
-    for (const auto& s : g_log)
-      if (s.find(text) != std::string::npos)
-        return true;
-    return false;
-  });
+  return dvs_driver::testing::runProcess(std::string(TRACKER_NODE) + " " + args);
 }
 }  // namespace
 
 TEST(TrackerBadParams, OutOfRangeParameterIsPrintedNamingIt)
 {
-  const NodeRun r = runNode("__name:=bad_tracker_buffer _buffer_size:=1");
+  const auto r = runNode("__name:=bad_tracker_buffer _buffer_size:=1");
   EXPECT_EQ(1, r.status) << r.output;
   EXPECT_NE(std::string::npos, r.output.find("buffer_size must be in [2, 1024] events (got 1)")) << r.output;
 }
 
 TEST(TrackerBadParams, MissingCalibrationFileIsPrinted)
 {
-  const NodeRun r = runNode("__name:=bad_tracker_calib _calibration_file:=/nonexistent/calib.txt");
+  const auto r = runNode("__name:=bad_tracker_calib _calibration_file:=/nonexistent/calib.txt");
   EXPECT_EQ(1, r.status) << r.output;
   EXPECT_NE(std::string::npos, r.output.find("/nonexistent/calib.txt")) << r.output;
 }
@@ -80,7 +43,7 @@ TEST(TrackerBadParams, GarbageMapIsPrinted)
 {
   const std::string map = "/tmp/tracker_bad_map_" + std::to_string(::getpid()) + ".yaml";
   std::ofstream(map) << "segments: [[[0,0,0],[1,0]]]\n";
-  const NodeRun r = runNode("__name:=bad_tracker_map _map_file:=" + map);
+  const auto r = runNode("__name:=bad_tracker_map _map_file:=" + map);
   EXPECT_EQ(1, r.status) << r.output;
   EXPECT_NE(std::string::npos, r.output.find(map)) << r.output;
   std::remove(map.c_str());
@@ -89,12 +52,12 @@ TEST(TrackerBadParams, GarbageMapIsPrinted)
 TEST(TrackerBadParams, MisspeltNameIsWarnedAbout)
 {
   ros::NodeHandle nh;
-  ros::Subscriber sub = nh.subscribe("/rosout", 1000, rosoutCallback);
+  dvs_driver::testing::RosoutLog log(nh);
   ros::AsyncSpinner spinner(1);
   spinner.start();
   ros::param::set("/misspelt_tracker/bufer_size", 12);
   dvs_line_tracker::TrackerRos tracker(ros::NodeHandle(), ros::NodeHandle("/misspelt_tracker"));
-  EXPECT_TRUE(waitForLog("unknown parameter /misspelt_tracker/bufer_size ignored"));
+  EXPECT_TRUE(log.waitFor("unknown parameter /misspelt_tracker/bufer_size ignored", 30));
 }
 
 int main(int argc, char** argv)

@@ -35,22 +35,10 @@ std::string xmlSafe(std::string s)
   return s;
 }
 
+/// The IOHeader's compression key: the reader's names, with "NONE" spelled as DV spells it.
 const char* compressionKey(Aedat4Compression c)
 {
-  switch (c)
-  {
-    case Aedat4Compression::None:
-      return "NONE";
-    case Aedat4Compression::Lz4:
-      return "LZ4";
-    case Aedat4Compression::Lz4High:
-      return "LZ4_HIGH";
-    case Aedat4Compression::Zstd:
-      return "ZSTD";
-    case Aedat4Compression::ZstdHigh:
-      return "ZSTD_HIGH";
-  }
-  return "NONE";
+  return c == Aedat4Compression::None ? "NONE" : aedat4CompressionName(c);
 }
 
 constexpr size_t kMagicSize = 14;
