@@ -60,7 +60,8 @@ for target in fuzz_events_text fuzz_aedat2 fuzz_dvs128_decoder fuzz_camera_files
   if [ ! -x "$exe" ]; then echo "fuzz: $target was not built" >&2; status=1; bad=$(( bad + 1 )); continue; fi
   findings="$build/findings/$target"; mkdir -p "$findings" "$build/corpus/$target"
   log="$findings/log.txt"
-  TMPDIR="$findings" "$exe" "$build/corpus/$target" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 \
+  # -seed=1: the same run on every machine (CI repeats what was run here).
+  TMPDIR="$findings" "$exe" "$build/corpus/$target" -seed=1 -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 \
     -max_len=65536 -artifact_prefix="$findings/" -print_final_stats=1 > "$log" 2>&1
   rc=$?
   runs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$' || true)

@@ -6,6 +6,7 @@
 #include <dvs_driver/formats/aedat4.h>
 #include <dvs_driver/formats/prophesee_raw.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <random>
@@ -316,4 +317,34 @@ TEST(FormatsAedat4, ImuSamplesOfTheRealSamples)
       EXPECT_LT(s.temperature_c, 60.0f);
     }
   }
+}
+
+TEST(Aedat4Reader, TimesBeyondInt64NanosecondsAreSkippedAndCounted)
+{
+  // Found by fuzzing: a corrupt packet's time of 7e16 us overflowed int64 nanoseconds (UB).
+  const int64_t marker_us = 123456789012345;  // a unique byte pattern to find in the file
+  EventVector ev = {Event{marker_us * 1000, 1, 2, true}, Event{(marker_us + 1) * 1000, 3, 4, false},
+                    Event{(marker_us + 2) * 1000, 5, 6, true}};
+  TempFile f(".aedat4");
+  formats::Aedat4WriterOptions o;
+  o.compression = Aedat4Compression::None;
+  {
+    formats::Aedat4Writer w(f.path(), 128, 128, o);
+    w.write(ev);
+    w.close();
+  }
+  std::ifstream in(f.path(), std::ios::binary);
+  std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  uint8_t pattern[8];
+  std::memcpy(pattern, &marker_us, 8);  // little endian, as the file stores it
+  auto at = std::search(bytes.begin(), bytes.end(), pattern, pattern + 8);
+  ASSERT_NE(at, bytes.end());
+  const int64_t corrupt = int64_t(1) << 56;  // 7.2e16 us
+  std::memcpy(&*at, &corrupt, 8);
+  f.write(bytes);
+  auto r = openEventFileReader(f.path());
+  const EventVector back = r->readAll();
+  ASSERT_EQ(back.size(), 2u);
+  EXPECT_EQ(back[0], ev[1]);
+  EXPECT_EQ(r->stats().invalid_events, 1u);
 }

@@ -7,6 +7,7 @@
 
 #include <cstdlib>
 #include <cstring>
+#include <climits>
 #include <map>
 
 namespace dvs_driver
@@ -210,18 +211,24 @@ protected:
       const size_t n = std::min<size_t>(cur_n_ - cur_, size_t(end - p));
       const uint8_t* q = elems_ + 16 * cur_;
       const uint32_t lx = limit_x_, ly = limit_y_;
-      uint64_t oor = 0;
+      uint64_t oor = 0, bad_time = 0;
+      // Microseconds whose nanoseconds would overflow int64 (~292 years): a corrupt packet
+      // (found by fuzzing); skipped and counted, never multiplied.
+      constexpr int64_t kMaxUs = INT64_MAX / 1000;
       for (size_t k = 0; k < n; ++k, q += 16)
       {
         const int64_t t = loadLE<int64_t>(q);
         const uint16_t x = loadLE<uint16_t>(q + 8), y = loadLE<uint16_t>(q + 10);  // negative -> huge
-        if (x < lx && y < ly)
+        if (t > kMaxUs || t < -kMaxUs)
+          ++bad_time;
+        else if (x < lx && y < ly)
           *p++ = Event{t * 1000, x, y, q[12] != 0};
         else
           ++oor;
       }
       cur_ += n;
       stats_.out_of_range += oor;
+      stats_.invalid_events += bad_time;
       if (p >= end)
         return p;
       if (!nextPacket())
@@ -398,7 +405,13 @@ private:
         return;
       }
       ImuSample s;
-      s.t_ns = imu.scalar<int64_t>(0, 0) * 1000;
+      const int64_t t_us = imu.scalar<int64_t>(0, 0);
+      if (t_us > INT64_MAX / 1000 || t_us < -(INT64_MAX / 1000))
+      {
+        ++stats_.damaged_packets;  // a time no clock gives: corrupt
+        return;
+      }
+      s.t_ns = t_us * 1000;
       s.temperature_c = imu.scalar<float>(1, 0.0f);
       for (unsigned a = 0; a < 3; ++a)
       {

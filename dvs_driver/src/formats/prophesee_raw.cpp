@@ -4,6 +4,7 @@
 #include <dvs_driver/formats/evt3_decoder.h>
 #include <dvs_driver/formats/prophesee_raw.h>
 
+#include <cerrno>
 #include <cstdlib>
 #include <sstream>
 
@@ -113,7 +114,16 @@ RawHeader parseRawHeader(const uint8_t* data, size_t size, const std::string& na
                            "' is not supported (EVT 2.0 and EVT 3.0 are)");
   auto o = h.keys.find("dvs_time_offset_us");
   if (o != h.keys.end())
-    h.time_offset_us = std::strtoll(o->second.c_str(), nullptr, 10);
+  {
+    // Our writer's offset for times beyond 2^32 us (Unix-epoch times): at most ~100 years, so
+    // that offset + sensor time stays far from overflowing int64 nanoseconds.
+    char* end = nullptr;
+    errno = 0;
+    h.time_offset_us = std::strtoll(o->second.c_str(), &end, 10);
+    if (errno != 0 || end == o->second.c_str() || h.time_offset_us < 0 || h.time_offset_us > 4000000000000000LL)
+      throw EventFormatError(name + ": header key dvs_time_offset_us '" + o->second +
+                             "' is not a time offset in [0, 4e15] us");
+  }
   auto e = h.keys.find("endianness");
   if (e != h.keys.end() && e->second != "little")
     throw EventFormatError(name + ": Prophesee RAW endianness '" + e->second + "' is not supported (little is)");
