@@ -41,7 +41,8 @@ bool ChunkedFile::refill()
   if (cap_ < keep + chunk_)
   {
     std::unique_ptr<uint8_t[]> bigger(new uint8_t[keep + chunk_]);
-    std::memcpy(bigger.get(), buf_.get(), keep);
+    if (keep > 0)  // (memcpy from a null buffer is undefined even for 0 bytes)
+      std::memcpy(bigger.get(), buf_.get(), keep);
     buf_ = std::move(bigger);
     cap_ = keep + chunk_;
   }
@@ -54,7 +55,8 @@ size_t ChunkedFile::read(void* dst, size_t n)
 {
   uint8_t* d = static_cast<uint8_t*>(dst);
   size_t from_buf = std::min(n, available());
-  std::memcpy(d, begin(), from_buf);
+  if (from_buf > 0)  // found by fuzzing: n = 0 with a null destination (an empty vector's data())
+    std::memcpy(d, begin(), from_buf);
   pos_ += from_buf;
   size_t got = from_buf;
   if (got < n)
