@@ -73,7 +73,7 @@ std::vector<ImageSegment> splitIntoSegments(const std::vector<Eigen::Vector2d>& 
   return out;
 }
 
-HoughLineDetector::HoughLineDetector(int width, int height, const HoughParams& params)
+HoughLineDetector::HoughLineDetector(int width, int height, const HoughParams& params, double ideal_radius_px)
   : params_(params), width_(width), height_(height)
 {
   if (width <= 0 || height <= 0)
@@ -85,7 +85,7 @@ HoughLineDetector::HoughLineDetector(int width, int height, const HoughParams& p
   num_theta_ = static_cast<int>(std::lround(180.0 / params.angle_bin_deg));
   cx_ = (width - 1) / 2.0;
   cy_ = (height - 1) / 2.0;
-  r_max_ = std::hypot(width / 2.0 + 4, height / 2.0 + 4);
+  r_max_ = std::max(std::hypot(width / 2.0 + 4, height / 2.0 + 4), ideal_radius_px + 4);
   num_r_ = static_cast<int>(std::ceil(2 * r_max_ / params.radius_bin_px));
   for (int k = 0; k < num_theta_; ++k)
   {
@@ -96,6 +96,7 @@ HoughLineDetector::HoughLineDetector(int width, int height, const HoughParams& p
   acc_.assign(static_cast<size_t>(num_theta_) * num_r_, 0);
   window_.resize(params.window_events);
   window_pixel_.assign(params.window_events, -1);
+  evidence_.resize(std::max(params.window_events, params.evidence_events));
   in_window_.assign(static_cast<size_t>(width) * height, 0);
   last_event_index_.assign(static_cast<size_t>(width) * height, std::numeric_limits<int64_t>::min() / 2);
 }
@@ -104,6 +105,7 @@ void HoughLineDetector::reset()
 {
   std::fill(acc_.begin(), acc_.end(), 0);
   window_head_ = window_count_ = 0;
+  evidence_head_ = evidence_count_ = 0;
   std::fill(window_pixel_.begin(), window_pixel_.end(), -1);
   std::fill(in_window_.begin(), in_window_.end(), 0);
   std::fill(last_event_index_.begin(), last_event_index_.end(), std::numeric_limits<int64_t>::min() / 2);
@@ -168,6 +170,9 @@ bool HoughLineDetector::addEvent(float x_ideal, float y_ideal, int sx, int sy, i
     in_window_[pixel] = 1;
   window_head_ = (window_head_ + 1) % capacity;
   vote(x_ideal, y_ideal, +1);
+  evidence_[evidence_head_] = Eigen::Vector2f(x_ideal, y_ideal);
+  evidence_head_ = (evidence_head_ + 1) % static_cast<int>(evidence_.size());
+  evidence_count_ = std::min(evidence_count_ + 1, static_cast<int>(evidence_.size()));
   return true;
 }
 
@@ -202,6 +207,17 @@ std::vector<Eigen::Vector2d> HoughLineDetector::windowPoints() const
   const int start = window_count_ == capacity ? window_head_ : 0;
   for (int i = 0; i < window_count_; ++i)
     points.push_back(window_[(start + i) % capacity].cast<double>());
+  return points;
+}
+
+std::vector<Eigen::Vector2d> HoughLineDetector::evidencePoints() const
+{
+  std::vector<Eigen::Vector2d> points;
+  points.reserve(evidence_count_);
+  const int capacity = static_cast<int>(evidence_.size());
+  const int start = evidence_count_ == capacity ? evidence_head_ : 0;
+  for (int i = 0; i < evidence_count_; ++i)
+    points.push_back(evidence_[(start + i) % capacity].cast<double>());
   return points;
 }
 

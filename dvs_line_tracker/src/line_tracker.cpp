@@ -1,5 +1,6 @@
 #include <dvs_line_tracker/line_tracker.h>
 
+#include <algorithm>
 #include <stdexcept>
 
 namespace dvs_line_tracker
@@ -42,6 +43,13 @@ TrackingGeometry makeGeometry(const dvs_calibration::CameraModel& camera, const 
   g.k.cy = in.cy;
   g.width = camera.width();
   g.height = camera.height();
+  const Eigen::Vector2d centre((g.width - 1) / 2.0, (g.height - 1) / 2.0);
+  for (int x = 0; x < g.width; ++x)
+    for (int y : {0, g.height - 1})
+      g.ideal_radius_px = std::max(g.ideal_radius_px, (camera.undistortedPixelLut(x, y).cast<double>() - centre).norm());
+  for (int y = 0; y < g.height; ++y)
+    for (int x : {0, g.width - 1})
+      g.ideal_radius_px = std::max(g.ideal_radius_px, (camera.undistortedPixelLut(x, y).cast<double>() - centre).norm());
   g.min_depth_m = params.min_depth_m;
   g.min_visible_length_px = params.min_visible_length_px;
   return g;
@@ -168,5 +176,6 @@ void LineTracker::declareLost(const std::string& reason)
   last_loss_reason_ = reason;
   ++stats_.losses;
   initializer_.restart();
+  initializer_.setPrior(estimator_.pose, now_ns_);
 }
 }  // namespace dvs_line_tracker

@@ -98,28 +98,38 @@ private:
     return c >= cos_min_ && c <= cos_max_ && cross(a.dir(), b.dir()) > 0;
   }
 
+  /// Side `a` is followed by side `b`: they turn the right way and their lines meet at a corner
+  /// beyond the middle of both, within the allowed gap of `a`'s far end and of `b`'s near end
+  /// (segments of slowly moving edges often stop short of the corner).
+  bool meets(const Oriented& a, const Oriented& b, Eigen::Vector2d* corner_out) const
+  {
+    const double gap = p_.corner_proximity_ratio * (a.length() + b.length()) + 3.0;
+    if ((b.near_end - a.far_end).norm() > 2 * gap || !turnOk(a, b))
+      return false;
+    Eigen::Vector2d corner;
+    if (!intersectLines({a.near_end, a.far_end, 0}, {b.near_end, b.far_end, 0}, corner))
+      return false;
+    if ((corner - a.near_end).dot(a.dir()) < 0.5 * a.length() || (b.far_end - corner).dot(b.dir()) < 0.5 * b.length())
+      return false;
+    if ((corner - a.far_end).norm() > gap || (corner - b.near_end).norm() > gap)
+      return false;
+    if (corner_out)
+      *corner_out = corner;
+    return true;
+  }
+
   bool closes(ImagePolygon& out) const
   {
-    const Oriented& last = chain_.back();
-    const Oriented& first = chain_.front();
-    if ((last.far_end - first.near_end).norm() > p_.corner_proximity_ratio * last.length())
-      return false;
-    if (!turnOk(last, first))
-      return false;
     ImagePolygon poly;
     for (int k = 0; k < n_; ++k)
     {
-      const Oriented& prev = chain_[(k + n_ - 1) % n_];
-      const Oriented& cur = chain_[k];
       Eigen::Vector2d corner;
-      if (!intersectLines({prev.near_end, prev.far_end, 0}, {cur.near_end, cur.far_end, 0}, corner))
+      const Oriented& prev = chain_[(k + n_ - 1) % n_];
+      if (!meets(prev, chain_[k], &corner))
         return false;
-      // The corner must be near both segments' ends.
-      if ((corner - cur.near_end).norm() > p_.corner_proximity_ratio * std::max(cur.length(), prev.length()) + 3.0 ||
-          (corner - prev.far_end).norm() > p_.corner_proximity_ratio * std::max(cur.length(), prev.length()) + 3.0)
-        return false;
+      poly.gap_px += (corner - prev.far_end).norm() + (corner - chain_[k].near_end).norm();
       poly.corners.push_back(corner);
-      poly.segment_ids.push_back(cur.id);
+      poly.segment_ids.push_back(chain_[k].id);
     }
     for (int k = 0; k < n_; ++k)
       if ((poly.corners[(k + 1) % n_] - poly.corners[k]).norm() < p_.min_side_px)
@@ -151,7 +161,9 @@ private:
       return static_cast<int>(collect_->size()) >= max_;
     }
     const Oriented cur = chain_.back();
-    const double reach = p_.corner_proximity_ratio * cur.length();
+    // Continuations tried closest corner first (a long segment nearby must not win over the
+    // side that really meets this one).
+    std::vector<std::pair<double, Oriented>> next_sides;
     for (int id : order_)
     {
       if (used_[id])
@@ -160,16 +172,22 @@ private:
       for (int end = 0; end < 2; ++end)
       {
         Oriented next{id, end == 0 ? s.p0 : s.p1, end == 0 ? s.p1 : s.p0};
-        if ((next.near_end - cur.far_end).norm() > reach || !turnOk(cur, next))
-          continue;
-        chain_.push_back(next);
-        used_[id] = true;
-        const bool found = extend(out);
-        used_[id] = false;
-        chain_.pop_back();
-        if (found)
-          return true;
+        Eigen::Vector2d corner;
+        if (meets(cur, next, &corner))
+          next_sides.emplace_back((corner - cur.far_end).norm() + (corner - next.near_end).norm(), next);
       }
+    }
+    std::stable_sort(next_sides.begin(), next_sides.end(),
+                     [](const auto& a, const auto& b) { return a.first < b.first; });
+    for (const auto& candidate : next_sides)
+    {
+      chain_.push_back(candidate.second);
+      used_[candidate.second.id] = true;
+      const bool found = extend(out);
+      used_[candidate.second.id] = false;
+      chain_.pop_back();
+      if (found)
+        return true;
     }
     return false;
   }
@@ -190,10 +208,11 @@ private:
 bool findPolygon(const std::vector<ImageSegment>& segments, int num_sides, const PolygonSearchParams& params,
                  ImagePolygon& polygon)
 {
-  if (num_sides < 3 || static_cast<int>(segments.size()) < num_sides)
+  const std::vector<ImagePolygon> found = findPolygons(segments, num_sides, params, 8);
+  if (found.empty())
     return false;
-  Search search(segments, num_sides, params);
-  return search.run(polygon);
+  polygon = found.front();
+  return true;
 }
 
 std::vector<ImagePolygon> findPolygons(const std::vector<ImageSegment>& segments, int num_sides,
@@ -204,6 +223,8 @@ std::vector<ImagePolygon> findPolygons(const std::vector<ImageSegment>& segments
     return found;
   Search search(segments, num_sides, params);
   search.runAll(found, max_polygons);
+  std::stable_sort(found.begin(), found.end(),
+                   [](const ImagePolygon& a, const ImagePolygon& b) { return a.gap_px < b.gap_px; });
   return found;
 }
 }  // namespace dvs_line_tracker

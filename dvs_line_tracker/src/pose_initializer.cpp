@@ -103,7 +103,7 @@ Pose refinePoseReprojection(const Pose& initial, const PinholeK& k,
 }
 
 bool estimateInitialPose(const std::vector<Eigen::Vector2d>& corners_ideal_px, const LineMap& map, const PinholeK& k,
-                         const PoseInitParams& params, InitialPose& result)
+                         const PoseInitParams& params, InitialPose& result, int only_polygon)
 {
   const int n = static_cast<int>(corners_ideal_px.size());
   if (n < 3)
@@ -118,7 +118,7 @@ bool estimateInitialPose(const std::vector<Eigen::Vector2d>& corners_ideal_px, c
   for (size_t pi = 0; pi < map.polygons.size(); ++pi)
   {
     const MapPolygon& poly = map.polygons[pi];
-    if (static_cast<int>(poly.corners_world.size()) != n)
+    if (static_cast<int>(poly.corners_world.size()) != n || (only_polygon >= 0 && static_cast<int>(pi) != only_polygon))
       continue;
     for (int direction = 0; direction < 2; ++direction)
       for (int shift = 0; shift < n; ++shift)

@@ -7,8 +7,45 @@
 
 namespace dvs_line_tracker
 {
+namespace
+{
+/// A second hypothesis explaining this fraction of the best one's evidence makes it ambiguous.
+constexpr double kAmbiguityRatio = 0.85;
+
+double sensorScale(const TrackingGeometry& g, const LineTrackerParams& p)
+{
+  return p.init_scale_with_sensor ? std::max(1.0, std::sqrt(static_cast<double>(g.width) * g.height) / 128.0) : 1.0;
+}
+
+/// Two hypotheses within a few percent of the distance and a few degrees are the same.
+bool samePose(const Pose& a, const Pose& b)
+{
+  return positionError(a, b) < 0.03 * a.p_world_camera().norm() && orientationError(a, b) < 3.0 * M_PI / 180;
+}
+
+int scaled(int count, double scale) { return std::max(1, static_cast<int>(std::lround(count * scale))); }
+
+HoughParams scaledHough(const TrackingGeometry& g, const LineTrackerParams& p)
+{
+  const double s = sensorScale(g, p);
+  HoughParams h = p.hough;
+  h.window_events = scaled(h.window_events, s);
+  h.vote_threshold = scaled(h.vote_threshold, s);
+  h.neighbour_filter_events = scaled(h.neighbour_filter_events, s);
+  h.max_gap_px *= s;
+  h.evidence_events = static_cast<int>(std::lround(h.window_events * p.init_evidence_windows));
+  return h;
+}
+}  // namespace
+
 TrackerInitializer::TrackerInitializer(const TrackingGeometry& geometry, const LineTrackerParams& params)
-  : geometry_(geometry), params_(params), hough_(geometry.width, geometry.height, params.hough)
+  : geometry_(geometry)
+  , params_(params)
+  , scale_(sensorScale(geometry, params))
+  , hough_(geometry.width, geometry.height, scaledHough(geometry, params), geometry.ideal_radius_px)
+  , check_interval_(scaled(params.init_check_interval, scale_))
+  , min_events_(scaled(params.init_min_events, scale_))
+  , refine_events_(params.init_refine_events > 0 ? scaled(params.init_refine_events, scale_) : 0)
 {
   for (const auto& poly : geometry.map.polygons)
     if (std::find(side_counts_.begin(), side_counts_.end(), static_cast<int>(poly.segment_ids.size())) ==
@@ -28,6 +65,45 @@ void TrackerInitializer::reset()
   restart();
   last_check_ns_ = std::numeric_limits<int64_t>::min() / 2;
   last_polygon_ = ImagePolygon();
+  stats_ = InitializerStats();
+  have_prior_ = false;
+}
+
+void TrackerInitializer::setPrior(const Pose& pose, int64_t t_ns)
+{
+  have_prior_ = params_.reacquire_prior_s > 0 && pose.allFinite();
+  prior_ = pose;
+  prior_ns_ = t_ns;
+}
+
+bool TrackerInitializer::tryPrior(const StartTracking& start)
+{
+  if (!have_prior_ || refine_events_ <= 0)
+    return false;
+  if (last_check_ns_ - prior_ns_ > static_cast<int64_t>(params_.reacquire_prior_s * 1e9))
+  {
+    have_prior_ = false;
+    return false;
+  }
+  ++stats_.prior_attempts;
+  const Pose pose = refineWithWindowEvents(prior_);
+  if (sideCoverage(pose).min_fraction < params_.init_min_coverage)
+    return false;
+  prior_ = pose;  // follow the camera while the evidence holds
+  if (!confirmed(pose))
+  {
+    ++stats_.unconfirmed;
+    return false;
+  }
+  recent_.clear();
+  if (!start(pose))
+  {
+    ++stats_.declined;
+    return false;
+  }
+  ++stats_.prior_accepted;
+  have_prior_ = false;
+  return true;
 }
 
 bool TrackerInitializer::addEvent(const Eigen::Vector2d& p, const dvs_driver::Event& e, const StartTracking& start)
@@ -35,7 +111,7 @@ bool TrackerInitializer::addEvent(const Eigen::Vector2d& p, const dvs_driver::Ev
   if (!hough_.addEvent(static_cast<float>(p.x()), static_cast<float>(p.y()), e.x, e.y, e.t_ns))
     return false;
   ++voted_since_check_;
-  if (hough_.numWindowEvents() < params_.init_min_events || voted_since_check_ < params_.init_check_interval ||
+  if (hough_.numWindowEvents() < min_events_ || voted_since_check_ < check_interval_ ||
       e.t_ns - last_check_ns_ < static_cast<int64_t>(params_.init_min_check_period_s * 1e9))
     return false;
   voted_since_check_ = 0;
@@ -73,36 +149,83 @@ bool TrackerInitializer::confirmed(const Pose& pose)
 
 bool TrackerInitializer::tryInitialize(const StartTracking& start)
 {
+  if (tryPrior(start))
+    return true;
   std::vector<ImageSegment> segments = hough_.detectSegments();
   segments.erase(std::remove_if(segments.begin(), segments.end(),
                                 [this](const ImageSegment& sg) { return alongBorder(sg); }),
                  segments.end());
+  ++stats_.attempts;
+  stats_.segments += segments.size();
   const double m = params_.init_border_margin_px, w = geometry_.width - 1.0, h = geometry_.height - 1.0;
   for (int sides : side_counts_)
     for (const ImagePolygon& polygon : findPolygons(segments, sides, params_.polygon, 8))
     {
-      bool cut_by_border = false;
+      ++stats_.polygons;
+      // Corners may lie outside the image (a partial view): the validation below then checks
+      // the sides that are in view.
       for (const auto& c : polygon.corners)
-        cut_by_border |= c.x() < m || c.y() < m || c.x() > w - m || c.y() > h - m;
-      if (cut_by_border)
-        continue;
+        if (c.x() < m || c.y() < m || c.x() > w - m || c.y() > h - m)
+        {
+          ++stats_.cut_by_border;
+          break;
+        }
+      // Each map polygon with this many sides is a hypothesis (several identical squares are
+      // told apart by the rest of the map): valid when every visible map side is covered by
+      // recent events (checking only the matched polygon's sides let wrong matches through:
+      // 8 false initialisations in the sweep instead of 2); the valid one whose projected map
+      // explains the most evidence wins, unless another explains nearly as much (ambiguous:
+      // wait until the view tells them apart).
+      bool have = false;
       InitialPose init;
-      if (!estimateInitialPose(polygon.corners, geometry_.map, geometry_.k, params_.init, init))
+      Coverage best;
+      double runner_up_px = 0;
+      for (size_t pi = 0; pi < geometry_.map.polygons.size(); ++pi)
+      {
+        InitialPose candidate;
+        if (static_cast<int>(geometry_.map.polygons[pi].corners_world.size()) != sides ||
+            !estimateInitialPose(polygon.corners, geometry_.map, geometry_.k, params_.init, candidate,
+                                 static_cast<int>(pi)))
+          continue;
+        if (refine_events_ > 0)
+          candidate.pose = refineWithWindowEvents(candidate.pose);
+        const Coverage c = sideCoverage(candidate.pose);
+        if (c.min_fraction < params_.init_min_coverage)
+          continue;
+        if (!have || c.covered_px > best.covered_px)
+        {
+          if (have && !samePose(init.pose, candidate.pose))
+            runner_up_px = std::max(runner_up_px, best.covered_px);
+          have = true;
+          init = candidate;
+          best = c;
+        }
+        else if (!samePose(init.pose, candidate.pose))
+          runner_up_px = std::max(runner_up_px, c.covered_px);
+      }
+      if (!have)
+      {
+        ++stats_.coverage_failed;
         continue;
-      if (params_.init_refine_events > 0)
-        init.pose = refineWithWindowEvents(init.pose);
-      // Validate: every visible side must be backed by events along most of its length (a
-      // polygon assembled from noise or from unrelated edges is not).
-      if (minSideCoverage(init.pose) < params_.init_min_coverage)
+      }
+      if (runner_up_px > kAmbiguityRatio * best.covered_px)
+      {
+        ++stats_.ambiguous;
         continue;
+      }
       if (!confirmed(init.pose))
+      {
+        ++stats_.unconfirmed;
         return false;
+      }
       recent_.clear();
       if (!start(init.pose))
       {
+        ++stats_.declined;
         hough_.reset();
         continue;
       }
+      ++stats_.accepted;
       last_polygon_ = polygon;
       return true;
     }
@@ -114,8 +237,8 @@ Pose TrackerInitializer::refineWithWindowEvents(const Pose& initial) const
   // The latest window events near the projected map segments pull the corner-based pose onto
   // all edge events (point-to-line Gauss-Newton, re-attributing every iteration).
   std::vector<Eigen::Vector2d> points = hough_.windowPoints();
-  if (static_cast<int>(points.size()) > params_.init_refine_events)
-    points.erase(points.begin(), points.end() - params_.init_refine_events);
+  if (static_cast<int>(points.size()) > refine_events_)
+    points.erase(points.begin(), points.end() - refine_events_);
   const LineMap& map = geometry_.map;
   const size_t n = map.segments.size();
   Pose pose = initial;
@@ -161,25 +284,15 @@ Pose TrackerInitializer::refineWithWindowEvents(const Pose& initial) const
   return pose;
 }
 
-double TrackerInitializer::minSideCoverage(const Pose& pose) const
+TrackerInitializer::Coverage TrackerInitializer::sideCoverage(const Pose& pose) const
 {
+  Coverage result;
   const LineMap& map = geometry_.map;
   const PinholeK& k = geometry_.k;
   const int width = geometry_.width, height = geometry_.height;
-  // The polygon search needs every side, so a genuine detection sees every map corner of the
-  // polygon inside the image (off its border): polygons cut by the border are not trusted.
-  for (const auto& poly : map.polygons)
-    for (const auto& c : poly.corners_world)
-    {
-      const Eigen::Vector3d pc = pose.toCamera(c);
-      if (pc.z() <= params_.min_depth_m)
-        return 0.0;
-      const Eigen::Vector2d px = k.project(pc);
-      const double margin = params_.init_border_margin_px;
-      if (px.x() < margin || px.y() < margin || px.x() > width - 1 - margin || px.y() > height - 1 - margin)
-        return 0.0;
-    }
-  const std::vector<Eigen::Vector2d> points = hough_.windowPoints();
+  // Every visible side must be backed by events along most of its visible length; corners may
+  // be outside the image (a partial view) as long as enough sides are in view.
+  const std::vector<Eigen::Vector2d> points = hough_.evidencePoints();
   constexpr double kCell = 3.0;
   double worst = 1.0;
   int visible = 0;
@@ -188,7 +301,7 @@ double TrackerInitializer::minSideCoverage(const Pose& pose) const
   {
     const Eigen::Vector3d a = pose.toCamera(seg.p0_world), b = pose.toCamera(seg.p1_world);
     if (a.z() <= params_.min_depth_m || b.z() <= params_.min_depth_m)
-      return 0.0;
+      return result;
     Eigen::Vector2d ca, cb;
     const double len =
         clippedLength(k.project(a), k.project(b), -0.5, -0.5, width - 0.5, height - 0.5, &ca, &cb);
@@ -212,10 +325,12 @@ double TrackerInitializer::minSideCoverage(const Pose& pose) const
     for (char f : filled)
       n += f;
     worst = std::min(worst, static_cast<double>(n) / cells);
+    result.covered_px += static_cast<double>(n) / cells * len;
   }
   if (visible < params_.min_visible_segments)
-    return 0.0;
+    return result;
   // A polygon's inside is quiet; a "polygon" cut out of a band of smeared events is not.
+  const std::vector<Eigen::Vector2d> recent = hough_.windowPoints();
   for (const auto& poly : map.polygons)
   {
     std::vector<ProjectedSegment> sides;
@@ -227,7 +342,7 @@ double TrackerInitializer::minSideCoverage(const Pose& pose) const
       sides.push_back(ps);
     }
     int on_sides = 0, inside = 0;
-    for (const auto& p : points)
+    for (const auto& p : recent)
     {
       double nearest = 1e300;
       int sign_pos = 0, sign_neg = 0;
@@ -244,8 +359,9 @@ double TrackerInitializer::minSideCoverage(const Pose& pose) const
         ++inside;
     }
     if (inside > params_.init_max_inside_ratio * std::max(on_sides, 1))
-      return 0.0;
+      return result;
   }
-  return worst;
+  result.min_fraction = worst;
+  return result;
 }
 }  // namespace dvs_line_tracker

@@ -34,6 +34,12 @@ dvs_driver::ParamTable trackerParamTable(LineTrackerParams& p, std::string& solv
   t.add("init_neighbour_filter_events", p.hough.neighbour_filter_events, "events", 1, 10000000,
         "'shortly before': among this many latest events");
   t.add("init_neighbour_filter_min", p.hough.neighbour_filter_min, "pixels", 1, 8, "neighbours that must have fired");
+  t.add("init_scale_with_sensor", p.init_scale_with_sensor,
+        "event counts and gaps of the initialisation are for 128x128; scaled by sqrt(pixels)/128 on larger sensors");
+  t.add("init_evidence_windows", p.init_evidence_windows, "", 1, 100,
+        "side coverage is validated on this many Hough windows of the latest voted events");
+  t.add("reacquire_prior", p.reacquire_prior_s, "s", 0, 3600,
+        "after a loss, the last tracked pose is tried first for this long (0: off)");
   t.add("init_check_interval", p.init_check_interval, "events", 1, 10000000, "voted events between detection attempts");
   t.add("init_min_check_period", p.init_min_check_period_s, "s", 0, 10, "and at least this much event time between attempts");
   t.add("init_min_events", p.init_min_events, "events", 0, 10000000, "voted events before the first attempt");
@@ -48,7 +54,7 @@ dvs_driver::ParamTable trackerParamTable(LineTrackerParams& p, std::string& solv
   t.add("polygon_min_angle_deg", p.polygon.min_turn_angle_deg, "deg", 0, 180, "turn between neighbouring sides, at least");
   t.add("polygon_max_angle_deg", p.polygon.max_turn_angle_deg, "deg", 0, 180, "turn between neighbouring sides, at most");
   positive("polygon_corner_proximity_ratio", p.polygon.corner_proximity_ratio, "", kInf,
-           "endpoint distance limit, fraction of the side's length");
+           "side end to corner, at most this fraction of the two sides' summed lengths");
   positive("polygon_min_side_px", p.polygon.min_side_px, "px", kInf, "shortest accepted side");
   positive("init_max_reprojection_px", p.init.max_reprojection_rms_px, "px", kInf, "corner reprojection RMS, at most");
   t.add("init_refine", p.init.refine, "Ceres refinement of the corners' reprojection error");

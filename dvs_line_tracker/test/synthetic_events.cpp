@@ -196,18 +196,5 @@ SyntheticSequence generateSyntheticEvents(const LineMap& map, const PoseFunction
   return seq;
 }
 
-Pose lookAt(const Eigen::Vector3d& p_world, const Eigen::Vector3d& target_world, const Eigen::Vector3d& up_world,
-                  double roll_rad)
-{
-  const Eigen::Vector3d z = (target_world - p_world).normalized();
-  const Eigen::Vector3d x = (-up_world).cross(z).normalized();  // camera y points down (-up)
-  const Eigen::Vector3d y = z.cross(x);
-  Eigen::Matrix3d R_world_cam;
-  R_world_cam.col(0) = x;
-  R_world_cam.col(1) = y;
-  R_world_cam.col(2) = z;
-  R_world_cam = R_world_cam * Eigen::AngleAxisd(roll_rad, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  return Pose::fromWorldCamera(R_world_cam, p_world);
-}
 
 }  // namespace dvs_line_tracker

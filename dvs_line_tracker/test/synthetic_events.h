@@ -52,10 +52,8 @@ struct SyntheticSequence
 SyntheticSequence generateSyntheticEvents(const LineMap& map, const PoseFunction& trajectory,
                                           const SyntheticEventParams& params);
 
-/// Camera at `p_world` looking at `target_world`, image "up" (-y) towards `up_world`, rolled
-/// by `roll_rad` about the optical axis.
-Pose lookAt(const Eigen::Vector3d& p_world, const Eigen::Vector3d& target_world, const Eigen::Vector3d& up_world,
-                  double roll_rad = 0.0);
+/// lookAt: the suite's one (dvs_calibration/pose.h).
+using dvs_calibration::lookAt;
 
 /// The generator's camera as a camera model: 128x128, f = 115 px, centred, no distortion.
 inline dvs_calibration::CameraModel idealCamera()

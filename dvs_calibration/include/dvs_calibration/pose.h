@@ -73,6 +73,22 @@ struct Pose
   bool allFinite() const { return R_camera_world.allFinite() && t_camera_world.allFinite(); }
 };
 
+/// A camera at `p_world` looking at `target_world`, the image's "up" (-y) towards `up_world`,
+/// rolled by `roll_rad` about the optical axis.
+inline Pose lookAt(const Eigen::Vector3d& p_world, const Eigen::Vector3d& target_world, const Eigen::Vector3d& up_world,
+                   double roll_rad = 0.0)
+{
+  const Eigen::Vector3d z = (target_world - p_world).normalized();
+  const Eigen::Vector3d x = (-up_world).cross(z).normalized();  // camera y points down (-up)
+  const Eigen::Vector3d y = z.cross(x);
+  Eigen::Matrix3d R_world_camera;
+  R_world_camera.col(0) = x;
+  R_world_camera.col(1) = y;
+  R_world_camera.col(2) = z;
+  R_world_camera = R_world_camera * Eigen::AngleAxisd(roll_rad, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  return Pose::fromWorldCamera(R_world_camera, p_world);
+}
+
 /// Distance of the camera centres (m).
 inline double positionError(const Pose& a, const Pose& b) { return (a.p_world_camera() - b.p_world_camera()).norm(); }
 /// Angle (rad) of R_a^T R_b, the orientation difference.

@@ -131,9 +131,9 @@ int main(int argc, char** argv)
     config.max_motion_px = parseDouble("max-motion", args.get("max-motion", "0.5"));
     config.calibrator.estimate_k3 = args.has("estimate-k3");
 
+    // Any recording, its format detected from its bytes (--bag and --aedat are the same option).
+    const std::string input = args.has("events") ? args.get("events") : args.has("bag") ? args.get("bag") : args.get("aedat");
     {
-      // Any recording, its format detected from its bytes (--bag and --aedat are the same option).
-      const std::string input = args.has("events") ? args.get("events") : args.has("bag") ? args.get("bag") : args.get("aedat");
       dvs_driver::Recording recording = dvs_driver::readRecording(input, args.get("topic", dvs_driver::kDefaultEventTopic));
       std::cerr << "calibrate: " << input << ": " << recording.format << ", " << recording.contents.stream.events.size()
                 << " events\n";
@@ -141,6 +141,7 @@ int main(int argc, char** argv)
         std::cerr << "calibrate: warning: " << input << ": " << w << "\n";
       stream = std::move(recording.contents.stream);
     }
+    const bool size_assumed = stream.width == 0 && !args.has("width");
     config.width = stream.width > 0 ? static_cast<int>(stream.width) : 128;
     config.height = stream.height > 0 ? static_cast<int>(stream.height) : 128;
     if (args.has("width"))
@@ -148,11 +149,15 @@ int main(int argc, char** argv)
     if (args.has("height"))
       config.height = parseInt("height", args.get("height"));
     validate(config);
-    for (const dvs_driver::Event& e : stream.events)
+    for (size_t i = 0; i < stream.events.size(); ++i)
+    {
+      const dvs_driver::Event& e = stream.events[i];
       if (e.x >= config.width || e.y >= config.height)
-        throw std::invalid_argument("event at x=" + std::to_string(e.x) + " y=" + std::to_string(e.y) + " lies outside " +
-                                    std::to_string(config.width) + "x" + std::to_string(config.height) +
-                                    ": pass the sensor size with --width/--height");
+        throw std::invalid_argument(input + ": event " + std::to_string(i + 1) + " (t " + std::to_string(e.t_ns * 1e-9) +
+                                    " s, x " + std::to_string(e.x) + ", y " + std::to_string(e.y) + ") lies outside the " +
+                                    (size_assumed ? "assumed " : "") + std::to_string(config.width) + "x" +
+                                    std::to_string(config.height) + " sensor: pass the sensor size with --width/--height");
+    }
   }
   catch (const std::exception& e)
   {

@@ -19,6 +19,7 @@ struct TrackingGeometry
   LineMap map;
   PinholeK k;        ///< ideal pinhole (events are undistorted by the camera model's table)
   int width = 0, height = 0;
+  double ideal_radius_px = 0;  ///< largest distance of an undistorted sensor pixel from the image centre
   double min_depth_m = 0.05;            ///< closer map points count as behind the camera
   double min_visible_length_px = 12.0;  ///< shorter visible parts do not count as visible
 

@@ -27,6 +27,7 @@ struct HoughParams
   int neighbour_filter_events = 500;    ///< "shortly before" = among the last this many events (adapts to the event rate)
   int max_candidates = 150;             ///< candidates examined per detection, most votes first
   int max_segments = 40;                ///< longest segments kept per detection
+  int evidence_events = 0;              ///< voted positions kept for validation beyond the window (0: the window)
 };
 
 /// A 2D segment in ideal (undistorted) pixel coordinates.
@@ -61,8 +62,10 @@ std::vector<ImageSegment> splitIntoSegments(const std::vector<Eigen::Vector2d>& 
 class HoughLineDetector
 {
 public:
-  /// `width`, `height`: sensor size in pixels (the Hough space covers the image).
-  HoughLineDetector(int width, int height, const HoughParams& params = HoughParams());
+  /// `width`, `height`: sensor size in pixels (the Hough space covers the image, or the
+  /// undistorted image when `ideal_radius_px` (the largest distance of an ideal pixel from the
+  /// image centre) is larger).
+  HoughLineDetector(int width, int height, const HoughParams& params = HoughParams(), double ideal_radius_px = 0);
 
   void reset();
   /// One event: `x_ideal`, `y_ideal` its undistorted position, `sx`, `sy` its sensor pixel
@@ -80,6 +83,8 @@ public:
 
   /// The positions currently voted (the window), oldest first.
   std::vector<Eigen::Vector2d> windowPoints() const;
+  /// The latest `evidence_events` voted positions (at least the window), oldest first.
+  std::vector<Eigen::Vector2d> evidencePoints() const;
 
   /// Segments found from all candidate bins, duplicates removed, longest first.
   std::vector<ImageSegment> detectSegments() const;
@@ -100,6 +105,8 @@ private:
   std::vector<int32_t> window_pixel_;    // their sensor pixel index (-1: none)
   std::vector<uint8_t> in_window_;       // per sensor pixel: already voting
   int window_head_ = 0, window_count_ = 0;
+  std::vector<Eigen::Vector2f> evidence_;  // ring buffer of the latest voted positions
+  int evidence_head_ = 0, evidence_count_ = 0;
   std::vector<int64_t> last_event_index_;  // per sensor pixel, for the neighbour filter
   int64_t event_index_ = 0;
 };

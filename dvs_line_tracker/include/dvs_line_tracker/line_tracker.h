@@ -73,6 +73,8 @@ public:
   const EdgeRunModel& edgeModel() const { return edge_model_; }
   /// The image polygon of the last successful initialisation (ideal pixels).
   const ImagePolygon& lastInitPolygon() const { return initializer_.lastPolygon(); }
+  /// The initialiser's counters: why there is no pose yet.
+  const InitializerStats& initializerStats() const { return initializer_.stats(); }
 
   /// Motion between events (e.g. an IMU); nullptr: the pose is held between events.
   void setPropagator(std::shared_ptr<StatePropagator> propagator) { propagator_ = std::move(propagator); }

@@ -47,8 +47,9 @@ double cornerReprojectionRms(const Pose& pose, const PinholeK& k, const std::vec
 
 /// Returns false when no assignment of the image corners to any map polygon with the same
 /// number of corners reprojects within the limit.
+/// `only_polygon` >= 0: match the corners to that map polygon only.
 bool estimateInitialPose(const std::vector<Eigen::Vector2d>& corners_ideal_px, const LineMap& map, const PinholeK& k,
-                         const PoseInitParams& params, InitialPose& result);
+                         const PoseInitParams& params, InitialPose& result, int only_polygon = -1);
 
 /// Ceres refinement of T_cam_world minimising the corners' reprojection error.
 Pose refinePoseReprojection(const Pose& initial, const PinholeK& k,

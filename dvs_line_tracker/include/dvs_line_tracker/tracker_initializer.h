@@ -1,11 +1,14 @@
 #pragma once
 // (Re-)initialisation (thesis 4.2.1): the events vote in a Hough accumulator over a sliding
-// window; every few hundred voted events the detected segments are filtered (not along the
-// image border), assembled into image polygons with the map's side counts, and each polygon's
-// corners give a pose (pose_initializer.h), refined on the window's events near the projected
-// map (point-to-line), validated (every corner in the image, every side covered by events, a
-// quiet inside) and confirmed by an earlier agreeing detection. The confirmed pose is offered
-// to the caller, which starts tracking from it or declines (too little of the map in view).
+// window (its event counts and gaps scaled to the sensor size); every few hundred voted events
+// the detected segments are filtered (not along the image border), assembled into image
+// polygons with the map's side counts (corners may lie outside the image: partial views), and
+// each polygon's corners give one pose hypothesis per map polygon of that side count
+// (pose_initializer.h), refined on the window's events near the projected map
+// (point-to-line), validated (every visible map side covered by recent voted events, a quiet
+// inside), ranked by the evidence the projected map explains (ambiguous rankings wait), and
+// confirmed by an earlier agreeing detection. The confirmed pose is offered to the caller,
+// which starts tracking from it or declines (too little of the map in view).
 #include <dvs_driver/event.h>
 #include <dvs_line_tracker/estimator_state.h>
 #include <dvs_line_tracker/hough_line_detector.h>
@@ -19,6 +22,23 @@
 
 namespace dvs_line_tracker
 {
+/// What the initialiser did with its detection attempts (why there is no pose yet).
+struct InitializerStats
+{
+  uint64_t attempts = 0;              ///< detections run on the Hough window
+  uint64_t segments = 0;              ///< segments found (summed over attempts)
+  uint64_t polygons = 0;              ///< image polygons assembled
+  uint64_t cut_by_border = 0;         ///< polygons with a corner at or beyond the image border (partial views; still tried)
+  uint64_t pose_failed = 0;           ///< polygons whose corners gave no consistent pose
+  uint64_t coverage_failed = 0;       ///< poses whose projected map was not backed by window events
+  uint64_t ambiguous = 0;             ///< two map polygons explained the events about equally well
+  uint64_t unconfirmed = 0;           ///< valid detections waiting for an agreeing one
+  uint64_t declined = 0;              ///< confirmed poses the tracker declined (too little map in view)
+  uint64_t accepted = 0;
+  uint64_t prior_attempts = 0;        ///< after a loss: the last tracked pose refined on the window's events
+  uint64_t prior_accepted = 0;        ///< re-acquisitions from that prior
+};
+
 class TrackerInitializer
 {
 public:
@@ -33,30 +53,48 @@ public:
 
   /// After a loss or a declined start: empty the window, forget unconfirmed detections.
   void restart();
+  /// After a loss: the last tracked pose. For `reacquire_prior_s` of event time every detection
+  /// attempt first refines it on the window's events and validates it like a detection (every
+  /// visible map side covered), so that the track comes back even when no whole polygon is in
+  /// view; the prior follows the refined pose while the evidence holds.
+  void setPrior(const Pose& pose, int64_t t_ns);
   /// Everything back to the constructed state.
   void reset();
 
   /// The image polygon of the last accepted detection (ideal pixels).
   const ImagePolygon& lastPolygon() const { return last_polygon_; }
+  const InitializerStats& stats() const { return stats_; }
 
 private:
   bool tryInitialize(const StartTracking& start);
+  bool tryPrior(const StartTracking& start);
   bool alongBorder(const ImageSegment& segment) const;
   /// A later detection agreeing with `pose` (position / distance and angle bounds) is needed.
   bool confirmed(const Pose& pose);
   Pose refineWithWindowEvents(const Pose& initial) const;
-  /// Smallest fraction, over the visible map segments, of 3 px cells along the segment holding
-  /// a window event within the attribution distance (0 when a polygon corner is off the image or
-  /// the polygon's inside is busy).
-  double minSideCoverage(const Pose& pose) const;
+  struct Coverage
+  {
+    double min_fraction = 0;   ///< smallest covered fraction over the visible map segments
+    double covered_px = 0;     ///< covered length summed over them (the evidence the pose explains)
+  };
+  /// Per visible map segment, the fraction of 3 px cells along it holding a recent voted event
+  /// within the attribution distance (min_fraction 0 when fewer than min_visible_segments are
+  /// visible or a polygon's inside is busy).
+  Coverage sideCoverage(const Pose& pose) const;
 
   const TrackingGeometry& geometry_;
   const LineTrackerParams& params_;
+  double scale_;                   ///< sensor scale of the event counts and gaps (1 for 128x128)
   HoughLineDetector hough_;
+  int check_interval_, min_events_, refine_events_;
   std::vector<int> side_counts_;   ///< distinct side counts of the map's polygons
   int voted_since_check_ = 0;
   int64_t last_check_ns_ = std::numeric_limits<int64_t>::min() / 2;
   std::vector<Pose> recent_;       ///< the last detections awaiting confirmation
   ImagePolygon last_polygon_;
+  InitializerStats stats_;
+  bool have_prior_ = false;
+  Pose prior_;
+  int64_t prior_ns_ = 0;
 };
 }  // namespace dvs_line_tracker

@@ -39,6 +39,16 @@ struct LineTrackerParams
   /// pose); `estimator.damping` otherwise. Updated at every quality check.
   double damping_partial_view = 1.0;
   int buffer_size = 40;              ///< events per segment buffer (thesis: 8; with the motion bound, 40 measured most accurate, BENCHMARKS.md)
+  /// The initialisation's event counts and pixel gaps (Hough window and threshold, segment gap,
+  /// detection interval, refinement events) are given for a 128x128 sensor and scaled by
+  /// sqrt(width * height) / 128 on larger sensors (their edges are longer and fire more events).
+  bool init_scale_with_sensor = true;
+  /// Validation (side coverage) uses this many Hough windows of the latest voted events: slow
+  /// edges draw themselves over a longer time than a window holds.
+  double init_evidence_windows = 4.0;
+  /// After a loss the last tracked pose is tried first (refined on the recent events, validated
+  /// like a detection) for this long [s]: re-acquisition without a whole polygon in view. 0: off.
+  double reacquire_prior_s = 2.0;
   int init_check_interval = 200;     ///< voted events between detection attempts while initialising
   double init_min_check_period_s = 0.005;  ///< and at least this much event time between attempts (bounds the CPU at high rates)
   int init_min_events = 100;         ///< voted events before the first detection attempt

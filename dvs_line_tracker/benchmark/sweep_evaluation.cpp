@@ -1,0 +1,164 @@
+#include "sweep_evaluation.h"
+
+#include <dvs_calibration/trajectory_accuracy.h>
+#include <dvs_line_tracker/line_tracker.h>
+
+#include <algorithm>
+#include <ctime>
+
+namespace dvs_line_tracker
+{
+namespace
+{
+constexpr double kDeg = 180.0 / M_PI;
+constexpr double kMinVisiblePx = 10.0;
+
+double cpuSeconds()
+{
+  timespec ts;
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+/// Length [px] of the part of a map segment that projects into the (distorted) image.
+double visibleLength(const dvs_calibration::CameraModel& camera, const dvs_calibration::Pose& pose, const MapSegment& seg)
+{
+  constexpr int kSamples = 24;
+  Eigen::Vector2d prev;
+  bool prev_in = false;
+  double length = 0;
+  for (int i = 0; i <= kSamples; ++i)
+  {
+    const Eigen::Vector3d pw = seg.p0_world + (seg.p1_world - seg.p0_world) * (static_cast<double>(i) / kSamples);
+    Eigen::Vector2d px;
+    const bool in = camera.project(pose.toCamera(pw), px) && px.x() >= -0.5 && px.y() >= -0.5 &&
+                    px.x() <= camera.width() - 0.5 && px.y() <= camera.height() - 0.5;
+    if (in && prev_in)
+      length += (px - prev).norm();
+    prev = px;
+    prev_in = in;
+  }
+  return length;
+}
+
+int visibleEdges(const SweepScene& s, const dvs_calibration::Pose& pose)
+{
+  int n = 0;
+  for (const auto& seg : s.map.segments)
+    n += visibleLength(s.camera, pose, seg) >= kMinVisiblePx ? 1 : 0;
+  return n;
+}
+
+/// The first ground-truth time at which at least min(3, segments) visible map edges have each
+/// swept one pixel (mean normal motion of their end points in ideal pixels) while in view.
+double edgesFireTime(const SweepScene& s, const dvs_calibration::Trajectory& gt)
+{
+  const size_t n = s.map.segments.size();
+  std::vector<double> swept(n, 0.0);
+  std::vector<Eigen::Vector2d> a_prev(n), b_prev(n);
+  std::vector<char> have(n, 0);
+  const size_t needed = std::min<size_t>(3, n);
+  for (const auto& sample : gt)
+  {
+    size_t fired = 0;
+    for (size_t i = 0; i < n; ++i)
+    {
+      const auto& seg = s.map.segments[i];
+      Eigen::Vector2d a, b;
+      const bool ok = s.camera.projectIdeal(sample.T_world_camera.toCamera(seg.p0_world), a) &&
+                      s.camera.projectIdeal(sample.T_world_camera.toCamera(seg.p1_world), b);
+      const bool visible = ok && visibleLength(s.camera, sample.T_world_camera, seg) >= kMinVisiblePx;
+      if (visible && have[i] && (b_prev[i] - a_prev[i]).norm() > 1e-9)
+      {
+        const Eigen::Vector2d d = (b_prev[i] - a_prev[i]).normalized();
+        const Eigen::Vector2d normal(-d.y(), d.x());
+        swept[i] += 0.5 * (std::abs(normal.dot(a - a_prev[i])) + std::abs(normal.dot(b - b_prev[i])));
+      }
+      have[i] = ok;
+      a_prev[i] = a;
+      b_prev[i] = b;
+      fired += visible && swept[i] >= 1.0 ? 1 : 0;
+    }
+    if (fired >= needed)
+      return sample.t;
+  }
+  return -1;
+}
+}  // namespace
+
+SweepResult runSweepScene(const SweepScene& s, const LineTrackerParams& params)
+{
+  SweepResult r;
+  dvs_driver::EventVector events;
+  {
+    const double c0 = cpuSeconds();
+    dvs_screen_sim::EventSimulator sim(s.camera, s.scene, s.events, dvs_screen_sim::SamplingConfig(), s.spec.seed);
+    sim.start(*s.trajectory);
+    sim.advanceTo(s.duration, events);
+    sim.flush(events);
+    r.simulator_cpu_s = cpuSeconds() - c0;
+  }
+  r.events = events.size();
+  const dvs_calibration::Trajectory gt = dvs_screen_sim::sampleTrajectory(*s.trajectory, s.duration, 1000.0);
+  r.edges_fire_s = edgesFireTime(s, gt);
+
+  LineTracker tracker(s.camera, s.map, params);
+  dvs_calibration::Trajectory estimates;
+  estimates.reserve(events.size());
+  const double c0 = cpuSeconds();
+  bool tracking = false;
+  for (const auto& e : events)
+  {
+    const bool updated = tracker.processEvent(e);
+    const bool now_tracking = tracker.state() == TrackerState::kTracking;
+    if (updated)
+    {
+      const double t = e.t_ns * 1e-9;
+      estimates.push_back({t, tracker.pose()});
+      if (!tracking)
+      {
+        // A (re-)initialisation: compare it with the truth at its event's time.
+        const dvs_calibration::Pose truth = s.trajectory->poseAt(t);
+        const double dist = (truth.p_world_camera() - s.target).norm();
+        const double pos = positionError(truth, tracker.pose()), ang = orientationError(truth, tracker.pose()) * kDeg;
+        ++r.initializations;
+        if (pos > 0.1 * dist || ang > 10)
+          ++r.false_initializations;
+        if (r.first_pose_s < 0)
+        {
+          r.first_pose_s = t;
+          r.first_pose_correct = pos <= 0.05 * dist && ang <= 3;
+        }
+      }
+    }
+    tracking = now_tracking;
+  }
+  r.tracker_cpu_s = cpuSeconds() - c0;
+  r.losses = static_cast<int>(tracker.stats().losses);
+  r.events_outside_sensor = tracker.stats().events_outside_sensor;
+  r.init_stats = tracker.initializerStats();
+  if (r.first_pose_s >= 0 && r.edges_fire_s >= 0)
+    r.first_pose_delay_s = r.first_pose_s - r.edges_fire_s;
+
+  // Tracked fraction: the ground-truth samples with at least three map edges in view.
+  dvs_calibration::Trajectory gt_in_view;
+  for (const auto& g : gt)
+    if (visibleEdges(s, g.T_world_camera) >= 3)
+      gt_in_view.push_back(g);
+  dvs_calibration::AccuracyOptions accuracy;
+  accuracy.max_age_s = 0.05;
+  accuracy.max_position_m = 0.1 * s.distance;
+  accuracy.max_orientation_rad = 10.0 / kDeg;
+  if (!estimates.empty())
+  {
+    const auto in_view = dvs_calibration::evaluateTrajectory(estimates, gt_in_view, accuracy);
+    r.tracked_fraction = in_view.trackedFraction();
+    const auto all = dvs_calibration::evaluateTrajectory(estimates, gt, accuracy);
+    r.rms_position_m = all.rms_position_m;
+    r.rms_orientation_deg = all.rms_orientation_rad * kDeg;
+    r.max_position_m = all.max_position_m;
+    r.rms_position_ratio = all.rms_position_m / s.distance;
+  }
+  return r;
+}
+}  // namespace dvs_line_tracker

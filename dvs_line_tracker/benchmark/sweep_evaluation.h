@@ -1,0 +1,37 @@
+#pragma once
+// Simulating a sweep scene and measuring the tracker on it against ground truth: when the map's
+// edges start firing, when and how well the tracker gives its first pose, false
+// initialisations, the tracked fraction while at least three map edges are in view, and the RMS.
+#include "sweep_scene.h"
+
+#include <dvs_line_tracker/tracker_initializer.h>
+#include <dvs_line_tracker/tracker_params.h>
+
+#include <cstdint>
+
+namespace dvs_line_tracker
+{
+struct SweepResult
+{
+  uint64_t events = 0;
+  /// Ground truth: the first time at least three map edges (or all, if fewer) are in view and
+  /// have each swept one pixel since the start, i.e. have drawn themselves in events.
+  double edges_fire_s = -1;
+  double first_pose_s = -1;        ///< event time of the first pose (-1: none)
+  double first_pose_delay_s = -1;  ///< first_pose_s - edges_fire_s (-1: none)
+  bool first_pose_correct = false; ///< within 5 % of the distance and 3 deg
+  int initializations = 0;         ///< first poses and re-initialisations
+  int false_initializations = 0;   ///< of those, further than 10 % of the distance or 10 deg from the truth
+  int losses = 0;
+  double tracked_fraction = 0;     ///< ground-truth samples from the first pose on with >= 3 edges in view
+  double rms_position_m = 0, rms_orientation_deg = 0;
+  double max_position_m = 0;
+  double rms_position_ratio = 0;   ///< rms_position_m / the start distance
+  double tracker_cpu_s = 0, simulator_cpu_s = 0;
+  uint64_t events_outside_sensor = 0;
+  InitializerStats init_stats;
+};
+
+/// Simulates the scene (seeded by spec.seed) and runs a fresh tracker with `params` over it.
+SweepResult runSweepScene(const SweepScene& scene, const LineTrackerParams& params = LineTrackerParams());
+}  // namespace dvs_line_tracker
