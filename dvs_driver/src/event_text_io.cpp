@@ -160,6 +160,7 @@ EventVector readEventsText(const std::string& path)
 TextFileSource::TextFileSource(const std::string& path) : in_(path)
 {
   info_.name = path;
+  info_.format = "events.txt";
   if (!in_)
     throw EventFileError(path + ": cannot open events file: " + std::strerror(errno));
 }

@@ -1,6 +1,7 @@
 #include <dvs_driver/recording.h>
 
 #include <dvs_driver/event_bag_io.h>
+#include <dvs_driver/event_packet_bag.h>
 #include <dvs_driver/event_text_io.h>
 #include <dvs_driver/formats/event_format.h>
 
@@ -17,8 +18,11 @@ bool readByFormatReader(EventFormat f)
 
 std::string recordingFormatName(const std::string& path)
 {
-  if (eventFileFormat(path) == EventFileFormat::Bag)
-    return "ROS bag";
+  if (eventFileFormat(path) == EventFileFormat::Bag || detectEventFormat(path) == EventFormat::RosBag1)
+  {
+    auto packets = openEventPacketBagFor(path);
+    return packets ? packets->formatName() : "ROS bag";
+  }
   const EventFormat f = detectEventFormat(path);
   if (f == EventFormat::Unknown)
     return "events.txt";
@@ -29,20 +33,24 @@ Recording readRecording(const std::string& path, const std::string& topic)
 {
   Recording r;
   const EventFormat f = eventFileFormat(path) == EventFileFormat::Bag ? EventFormat::RosBag1 : detectEventFormat(path);
-  if (f == EventFormat::RosBag1 || eventFileFormat(path) == EventFileFormat::Bag)
+  std::unique_ptr<EventFileReader> reader;
+  if (f == EventFormat::RosBag1)
+    reader = openEventPacketBagFor(path, topic);  // a bag of event_camera_msgs/EventPacket
+  if (f == EventFormat::RosBag1 && !reader)
   {
     r.format = "ROS bag";
     r.contents.stream = readEventsBag(path, topic);
     return r;
   }
-  if (!readByFormatReader(f))
+  if (!reader && !readByFormatReader(f))
   {
     // AEDAT 2.0 or events.txt (by its extension, as before: a text file has no signature).
     r.contents = readEventFile(path);
     r.format = eventFileFormat(path) == EventFileFormat::Aedat ? "AEDAT 2.0" : "events.txt";
     return r;
   }
-  auto reader = openEventFileReader(path);
+  if (!reader)
+    reader = openEventFileReader(path);
   r.format = reader->formatName();
   EventVector& events = r.contents.stream.events;
   if (reader->expectedEvents() > 0)
