@@ -5,6 +5,11 @@
 #include <dvs_driver/event_text_io.h>
 #include <dvs_driver/formats/event_format.h>
 
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <sys/stat.h>
+
 namespace dvs_driver
 {
 namespace
@@ -29,7 +34,7 @@ std::string recordingFormatName(const std::string& path)
   return eventFormatName(f);
 }
 
-Recording readRecording(const std::string& path, const std::string& topic)
+Recording readRecording(const std::string& path, const std::string& topic, const ReadProgress& progress)
 {
   Recording r;
   const EventFormat f = eventFileFormat(path) == EventFileFormat::Bag ? EventFormat::RosBag1 : detectEventFormat(path);
@@ -39,13 +44,29 @@ Recording readRecording(const std::string& path, const std::string& topic)
   if (f == EventFormat::RosBag1 && !reader)
   {
     r.format = "ROS bag";
-    r.contents.stream = readEventsBag(path, topic);
+    BagEventSource source(path, topic);
+    EventStream& s = r.contents.stream;
+    s.width = source.info().width;
+    s.height = source.info().height;
+    while (source.read(s.events, 1 << 16) > 0)
+      if (progress)
+        progress(s.events.size(), 0, 0);
     return r;
   }
   if (!reader && !readByFormatReader(f))
   {
     // AEDAT 2.0 or events.txt (by its extension, as before: a text file has no signature).
-    r.contents = readEventFile(path);
+    if (eventFileFormat(path) == EventFileFormat::Text && progress)
+    {
+      std::ifstream in(path);
+      if (!in)
+        throw EventFileError(path + ": cannot open events file: " + std::strerror(errno));
+      struct stat st{};
+      const uint64_t size = ::stat(path.c_str(), &st) == 0 ? uint64_t(st.st_size) : 0;
+      r.contents.stream.events = readEventsText(in, path, progress, size);
+    }
+    else
+      r.contents = readEventFile(path);
     r.format = eventFileFormat(path) == EventFileFormat::Aedat ? "AEDAT 2.0" : "events.txt";
     return r;
   }
@@ -55,9 +76,12 @@ Recording readRecording(const std::string& path, const std::string& topic)
   EventVector& events = r.contents.stream.events;
   if (reader->expectedEvents() > 0)
     events.reserve(static_cast<size_t>(reader->expectedEvents()));
-  while (reader->read(events, 1 << 20))
-  {
-  }
+  while (reader->read(events, 1 << 16))
+    if (progress)
+    {
+      const ReaderStats s = reader->stats();
+      progress(events.size(), s.bytes_read, s.file_size);
+    }
   r.contents.stream.width = reader->width();
   r.contents.stream.height = reader->height();
   r.contents.sensor_name = reader->formatName();
