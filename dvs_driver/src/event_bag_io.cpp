@@ -283,11 +283,18 @@ bool isEventPacketBag(const std::string& path, const std::string& topic, std::st
   }
   if (packet_topics.empty() || topic != kDefaultEventTopic)
     return false;
-  rosbag::Bag bag;
-  bag.open(path, rosbag::bagmode::Read);
-  rosbag::View view(bag, rosbag::TopicQuery(topic));
-  if (!view.getConnections().empty())
-    return false;  // the default topic exists (of whatever type): BagEventSource
+  try
+  {
+    rosbag::Bag bag;
+    bag.open(path, rosbag::bagmode::Read);
+    rosbag::View view(bag, rosbag::TopicQuery(topic));
+    if (!view.getConnections().empty())
+      return false;  // the default topic exists (of whatever type): BagEventSource
+  }
+  catch (const rosbag::BagException&)
+  {
+    return false;  // BagEventSource names the problem
+  }
   packet_topic = "";
   return true;
 }

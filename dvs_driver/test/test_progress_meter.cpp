@@ -2,10 +2,13 @@
 // once per interval, a final line only after a shown one; and the real `convert` stays quiet when
 // its stderr is not a terminal (no "\r", no progress line) while still printing its JSON line.
 #include <dvs_driver/progress_meter.h>
+#include <dvs_driver/recording.h>
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
+#include <vector>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -106,6 +109,33 @@ TEST(ProgressMeter, CallbackTakesTheReadersTotal)
   cb(5, 250, 1000);
   EXPECT_NE(readAll(f).find("convert: 5 events, 25.0 % of 1.0 kB"), std::string::npos);
   std::fclose(f);
+}
+
+// readRecording reports its progress between batches: events and bytes growing, the file's size
+// as total, and the last report at the end of the file (EVT 3.0 sample: 219,596 events, 618,052 bytes).
+TEST(ProgressMeter, ReadRecordingReportsEventsAndBytes)
+{
+  std::vector<std::array<uint64_t, 3>> calls;
+  const auto r = dvs_driver::readRecording(std::string(DVS_FORMATS_DATA_DIR) + "/prophesee_evt3_gen41_1280x720.raw",
+                                           "/dvs/events", [&](uint64_t e, uint64_t b, uint64_t t) {
+                                             calls.push_back({e, b, t});
+                                           });
+  ASSERT_EQ(r.contents.stream.events.size(), 219596u);
+  ASSERT_GE(calls.size(), 3u);  // batches of 65,536 events
+  for (size_t i = 0; i < calls.size(); ++i)
+  {
+    EXPECT_EQ(calls[i][2], 618052u);
+    EXPECT_LE(calls[i][1], calls[i][2]);
+    if (i > 0)
+    {
+      EXPECT_GT(calls[i][0], calls[i - 1][0]);
+      EXPECT_GE(calls[i][1], calls[i - 1][1]);
+    }
+  }
+  EXPECT_EQ(calls.back()[0], 219596u);
+  EXPECT_EQ(calls.back()[1], 618052u);
+  EXPECT_EQ(formatProgress("convert", calls.back()[0], calls.back()[1], calls.back()[2], 0.5),
+            "convert: 219,596 events, 100.0 % of 618.1 kB, 439.2 k events/s");
 }
 
 // The real tool with stderr to a file (not a terminal): no progress output at all.

@@ -140,7 +140,8 @@ void checkMemory(const std::string& input)
       need = size + size / 8 * 16;
       break;
     case dvs_driver::EventFileFormat::Bag:
-      need = size / 13 * 16;
+      // dvs_msgs: 13 bytes per event; event_camera_msgs/EventPacket (EVT 3.0): 2 bytes or more
+      need = dvs_driver::openEventPacketBagFor(input) ? size * 8 : size / 13 * 16;
       break;
     case dvs_driver::EventFileFormat::Text:
       need = size / 18 * 16;
