@@ -295,6 +295,7 @@ AedatFileSource::AedatFileSource(const std::string& path) : in_(path, std::ios::
   }
   setSensorSize(aedat_, info_.width, info_.height);
   info_.sensor_name = aedat_.sensor_name;
+  info_.format = "AEDAT 2.0";
   info_.truncated_bytes = aedat_.truncated_bytes;
   rewind();
 }

@@ -16,8 +16,8 @@ ParamTable driverParamTable(DriverParams& p)
   t.add("serial_number", p.serial_number, {},
         "camera to open; empty = first found (re-opened by its serial after an unplug)");
   t.add("file", p.file, {},
-        "replay this recording instead of a camera: `.aedat` (AEDAT 2.0), `.bag` (topic `/dvs/events`), else "
-        "events.txt; streamed, never read whole");
+        "replay this recording instead of a camera: any format of *Event file formats* (detected from its bytes; "
+        "bags: topic `/dvs/events`, else the first EventPacket topic); streamed, never read whole");
   t.add("replay_speed", p.replay_speed, "x real time", 0, 1e308, "replay speed; 0 = as fast as possible");
   t.add("replay_loop", p.replay_loop, "start the recording again at its end (times keep increasing)");
   t.add("wait_for_subscriber", p.wait_for_subscriber, "start a replay only when `dvs/events` has a subscriber");

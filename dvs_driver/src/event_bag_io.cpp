@@ -1,6 +1,7 @@
 #include <dvs_driver/checked_bag.h>
 #include <dvs_driver/event_bag_io.h>
 #include <dvs_driver/event_file.h>
+#include <dvs_driver/event_packet_bag.h>
 #include <dvs_driver/formats/reader_source.h>
 
 #include <rosbag/bag.h>
@@ -138,6 +139,7 @@ dvs_msgs::EventArrayConstPtr instantiateChecked(const rosbag::MessageInstance& m
 BagEventSource::BagEventSource(const std::string& path, const std::string& topic) : reader_(new Reader)
 {
   info_.name = path;
+  info_.format = "ROS bag, dvs_msgs/EventArray on " + topic;
   struct stat st;
   if (::stat(path.c_str(), &st) != 0)
     throw EventBagError(path + ": bag file does not exist");
@@ -257,10 +259,68 @@ EventStream readEventsBag(const std::string& path, const std::string& topic)
   return stream;
 }
 
+namespace
+{
+/// A bag is read as event_camera_msgs/EventPacket messages when `topic` carries them, or when it
+/// is the default topic, the bag has no such topic and holds EventPacket topics (then the first;
+/// openEventPacketBag warns about others). Returns false (a dvs_msgs bag: BagEventSource, whose
+/// errors list the topics) otherwise, and for files that are not bags.
+bool isEventPacketBag(const std::string& path, const std::string& topic, std::string& packet_topic)
+{
+  std::vector<std::string> packet_topics;
+  try
+  {
+    packet_topics = eventPacketTopics(path);
+  }
+  catch (const std::exception&)
+  {
+    return false;  // BagEventSource names the problem
+  }
+  if (std::find(packet_topics.begin(), packet_topics.end(), topic) != packet_topics.end())
+  {
+    packet_topic = topic;
+    return true;
+  }
+  if (packet_topics.empty() || topic != kDefaultEventTopic)
+    return false;
+  try
+  {
+    rosbag::Bag bag;
+    bag.open(path, rosbag::bagmode::Read);
+    rosbag::View view(bag, rosbag::TopicQuery(topic));
+    if (!view.getConnections().empty())
+      return false;  // the default topic exists (of whatever type): BagEventSource
+  }
+  catch (const rosbag::BagException&)
+  {
+    return false;  // BagEventSource names the problem
+  }
+  packet_topic = "";
+  return true;
+}
+
+std::unique_ptr<EventSource> openBagSource(const std::string& path, const std::string& topic)
+{
+  std::string packet_topic;
+  if (isEventPacketBag(path, topic, packet_topic))
+    return std::unique_ptr<EventSource>(
+        new FormatReaderSource(path, [path, packet_topic] { return openEventPacketBag(path, packet_topic); }));
+  return std::unique_ptr<EventSource>(new BagEventSource(path, topic));
+}
+}  // namespace
+
+std::unique_ptr<EventFileReader> openEventPacketBagFor(const std::string& path, const std::string& topic)
+{
+  std::string packet_topic;
+  if (isEventPacketBag(path, topic, packet_topic))
+    return openEventPacketBag(path, packet_topic);
+  return nullptr;
+}
+
 std::unique_ptr<EventSource> openEventSource(const std::string& path, const std::string& topic)
 {
   if (eventFileFormat(path) == EventFileFormat::Bag)
-    return std::unique_ptr<EventSource>(new BagEventSource(path, topic));
+    return openBagSource(path, topic);
   // The formats told apart by their first bytes (Prophesee RAW, AEDAT 3.1/4.0, HDF5); AEDAT 2.0
   // and events.txt as before.
   switch (detectEventFormat(path))
@@ -271,7 +331,7 @@ std::unique_ptr<EventSource> openEventSource(const std::string& path, const std:
     case EventFormat::Hdf5:
       return std::unique_ptr<EventSource>(new FormatReaderSource(path));
     case EventFormat::RosBag1:
-      return std::unique_ptr<EventSource>(new BagEventSource(path, topic));
+      return openBagSource(path, topic);
     default:
       return openEventFileSource(path);
   }

@@ -28,6 +28,7 @@ std::unique_ptr<EventSource> openEventFileSource(const std::string& path)
 MemoryEventSource::MemoryEventSource(EventStream stream, const std::string& name) : stream_(std::move(stream))
 {
   info_.name = name;
+  info_.format = "events in memory";
   info_.width = stream_.width;
   info_.height = stream_.height;
 }

@@ -136,14 +136,26 @@ bool parseEventLine(const std::string& line, const std::string& name, size_t lin
 
 EventVector readEventsText(std::istream& in, const std::string& name)
 {
+  return readEventsText(in, name, ReadProgress(), 0);
+}
+
+EventVector readEventsText(std::istream& in, const std::string& name, const ReadProgress& progress,
+                           uint64_t total_bytes)
+{
   EventVector events;
   std::string line;
   size_t line_no = 0;
+  uint64_t bytes = 0;
   int64_t last_t = INT64_MIN;
   Event ev;
   while (std::getline(in, line))
+  {
     if (parseEventLine(line, name, ++line_no, last_t, ev))
       events.push_back(ev);
+    bytes += line.size() + 1;
+    if (progress && (line_no & 0xFFFF) == 0)
+      progress(events.size(), bytes, total_bytes);
+  }
   if (in.bad())
     throw EventFileError(name + ": read error");
   return events;
@@ -160,6 +172,7 @@ EventVector readEventsText(const std::string& path)
 TextFileSource::TextFileSource(const std::string& path) : in_(path)
 {
   info_.name = path;
+  info_.format = "events.txt";
   if (!in_)
     throw EventFileError(path + ": cannot open events file: " + std::strerror(errno));
 }

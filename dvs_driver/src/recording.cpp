@@ -1,8 +1,14 @@
 #include <dvs_driver/recording.h>
 
 #include <dvs_driver/event_bag_io.h>
+#include <dvs_driver/event_packet_bag.h>
 #include <dvs_driver/event_text_io.h>
 #include <dvs_driver/formats/event_format.h>
+
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <sys/stat.h>
 
 namespace dvs_driver
 {
@@ -17,39 +23,65 @@ bool readByFormatReader(EventFormat f)
 
 std::string recordingFormatName(const std::string& path)
 {
-  if (eventFileFormat(path) == EventFileFormat::Bag)
-    return "ROS bag";
+  if (eventFileFormat(path) == EventFileFormat::Bag || detectEventFormat(path) == EventFormat::RosBag1)
+  {
+    auto packets = openEventPacketBagFor(path);
+    return packets ? packets->formatName() : "ROS bag";
+  }
   const EventFormat f = detectEventFormat(path);
   if (f == EventFormat::Unknown)
     return "events.txt";
   return eventFormatName(f);
 }
 
-Recording readRecording(const std::string& path, const std::string& topic)
+Recording readRecording(const std::string& path, const std::string& topic, const ReadProgress& progress)
 {
   Recording r;
   const EventFormat f = eventFileFormat(path) == EventFileFormat::Bag ? EventFormat::RosBag1 : detectEventFormat(path);
-  if (f == EventFormat::RosBag1 || eventFileFormat(path) == EventFileFormat::Bag)
+  std::unique_ptr<EventFileReader> reader;
+  if (f == EventFormat::RosBag1)
+    reader = openEventPacketBagFor(path, topic);  // a bag of event_camera_msgs/EventPacket
+  if (f == EventFormat::RosBag1 && !reader)
   {
     r.format = "ROS bag";
-    r.contents.stream = readEventsBag(path, topic);
+    BagEventSource source(path, topic);
+    EventStream& s = r.contents.stream;
+    s.width = source.info().width;
+    s.height = source.info().height;
+    while (source.read(s.events, 1 << 16) > 0)
+      if (progress)
+        progress(s.events.size(), 0, 0);
     return r;
   }
-  if (!readByFormatReader(f))
+  if (!reader && !readByFormatReader(f))
   {
     // AEDAT 2.0 or events.txt (by its extension, as before: a text file has no signature).
-    r.contents = readEventFile(path);
+    if (eventFileFormat(path) == EventFileFormat::Text && progress)
+    {
+      std::ifstream in(path);
+      if (!in)
+        throw EventFileError(path + ": cannot open events file: " + std::strerror(errno));
+      struct stat st{};
+      const uint64_t size = ::stat(path.c_str(), &st) == 0 ? uint64_t(st.st_size) : 0;
+      r.contents.stream.events = readEventsText(in, path, progress, size);
+    }
+    else
+      r.contents = readEventFile(path);
     r.format = eventFileFormat(path) == EventFileFormat::Aedat ? "AEDAT 2.0" : "events.txt";
     return r;
   }
-  auto reader = openEventFileReader(path);
+  if (!reader)
+    reader = openEventFileReader(path);
   r.format = reader->formatName();
   EventVector& events = r.contents.stream.events;
   if (reader->expectedEvents() > 0)
     events.reserve(static_cast<size_t>(reader->expectedEvents()));
-  while (reader->read(events, 1 << 20))
-  {
-  }
+  while (reader->read(events, 1 << 16))
+    if (progress)
+    {
+      const ReaderStats s = reader->stats();
+      progress(events.size(), s.bytes_read, s.file_size);
+    }
   r.contents.stream.width = reader->width();
   r.contents.stream.height = reader->height();
   r.contents.sensor_name = reader->formatName();

@@ -1,8 +1,8 @@
 #pragma once
 // Test helper: the EventPacket messages of the ROS 2 bag sample
 // (../shared/data/formats/eventpacket_evt3_1280x720_ros2bag.db3), read with sqlite3 and a small
-// CDR parser (layout in that directory's README). Test code only.
-#include <gtest/gtest.h>
+// CDR parser (layout in that directory's README). Test code only (gtests and the rostests' bag
+// writer, write_event_packet_bag); errors throw std::runtime_error naming the file.
 #include <sqlite3.h>
 
 #include <cstdint>
@@ -72,9 +72,17 @@ private:
 inline std::vector<Packet> readBagPackets(const std::string& path)
 {
   sqlite3* db = nullptr;
-  EXPECT_EQ(sqlite3_open_v2(path.c_str(), &db, SQLITE_OPEN_READONLY, nullptr), SQLITE_OK) << path;
+  if (sqlite3_open_v2(path.c_str(), &db, SQLITE_OPEN_READONLY, nullptr) != SQLITE_OK)
+  {
+    sqlite3_close(db);
+    throw std::runtime_error(path + ": cannot open as sqlite3");
+  }
   sqlite3_stmt* st = nullptr;
-  EXPECT_EQ(sqlite3_prepare_v2(db, "SELECT data FROM messages ORDER BY timestamp, id", -1, &st, nullptr), SQLITE_OK);
+  if (sqlite3_prepare_v2(db, "SELECT data FROM messages ORDER BY timestamp, id", -1, &st, nullptr) != SQLITE_OK)
+  {
+    sqlite3_close(db);
+    throw std::runtime_error(path + ": no ROS 2 bag messages table");
+  }
   std::vector<Packet> out;
   while (st && sqlite3_step(st) == SQLITE_ROW)
   {

@@ -2,15 +2,14 @@
 // written here (topic_tools::ShapeShifter with our datatype/MD5/definition) from the 105 real
 // payloads of the ROS 2 bag sample decodes to the README's known answers; damaged messages,
 // missing topics, other definitions.
+#include <dvs_driver/event_bag_io.h>
 #include <dvs_driver/event_packet_bag.h>
+#include <dvs_driver/recording.h>
 
+#include "event_packet_sample_bag.h"
 #include "formats_test_util.h"
-#include "ros2_event_packet_sample.h"
 
-#include <rosbag/bag.h>
-#include <ros/serialization.h>
-#include <std_msgs/String.h>
-#include <topic_tools/shape_shifter.h>
+#include <gtest/gtest.h>
 
 #include <cstdlib>
 
@@ -20,56 +19,15 @@ using formats_test::TempFile;
 namespace
 {
 const char* kTopic = "/event_camera/events";
-
-void writeRaw(rosbag::Bag& bag, const std::string& topic, const ros::Time& t, const std::vector<uint8_t>& bytes,
-              const std::string& md5 = kEventPacketMd5)
-{
-  topic_tools::ShapeShifter ss;
-  ss.morph(md5, kEventPacketType, kEventPacketDefinition, "0");
-  std::vector<uint8_t> copy = bytes;
-  ros::serialization::IStream is(copy.data(), uint32_t(copy.size()));
-  ss.read(is);
-  bag.write(topic, t, ss);
-}
-
-EventPacketView view(const ros2_sample::Packet& p)
-{
-  EventPacketView v;
-  v.header_seq = uint32_t(p.seq);
-  v.stamp_ns = int64_t(p.stamp_sec) * 1000000000 + p.stamp_nsec;
-  v.frame_id = p.frame_id;
-  v.height = p.height;
-  v.width = p.width;
-  v.seq = p.seq;
-  v.time_base = p.time_base;
-  v.encoding = p.encoding;
-  v.events = p.events.data();
-  v.events_size = p.events.size();
-  return v;
-}
+using event_packet_sample::view;
+using event_packet_sample::writeRaw;
 
 /// The sample's packets as a ROS 1 bag; `damage` = index of a message written cut short (-1: none).
 void writeSampleBag(const std::string& path, int damage = -1)
 {
-  const auto packets = ros2_sample::readBagPackets(formats_test::sample("eventpacket_evt3_1280x720_ros2bag.db3"));
-  ASSERT_EQ(packets.size(), 105u);
-  rosbag::Bag bag(path, rosbag::bagmode::Write);
-  std_msgs::String other;
-  other.data = "not events";
-  bag.write("/other", ros::Time(1, 0), other);
-  for (size_t i = 0; i < packets.size(); ++i)
-  {
-    const EventPacketView v = view(packets[i]);
-    std::vector<uint8_t> bytes = serializeEventPacket(v);
-    EventPacketView back;
-    std::string error;
-    ASSERT_TRUE(parseEventPacket(bytes.data(), bytes.size(), back, error)) << error;
-    EXPECT_EQ(back.events_size, v.events_size);
-    if (int(i) == damage)
-      bytes.resize(bytes.size() - 3);
-    writeRaw(bag, kTopic, ros::Time(10 + i, 0), bytes);
-  }
-  bag.close();
+  EXPECT_EQ(event_packet_sample::writeSampleBag(formats_test::sample("eventpacket_evt3_1280x720_ros2bag.db3"), path,
+                                                kTopic, damage),
+            105u);
 }
 }  // namespace
 
@@ -201,4 +159,74 @@ TEST(FormatsEventPacketBag, NamedErrors)
   notbag.write(std::vector<uint8_t>{'#', 'R', 'O', 'S', 'B', 'A', 'G'});
   e = errorOf(notbag.path());
   EXPECT_NE(e.find("cannot be read as a ROS 1 bag"), std::string::npos) << e;
+}
+
+// The driver's file source (openEventSource, so ~file and replay.launch) and readRecording
+// (convert, track_offline, calibrate) read the EventPacket bag as the reader does: decoder state
+// carried across messages, the same events in any block size, again after a rewind.
+TEST(FormatsEventPacketBag, FileSourceAndReadRecordingGiveTheKnownAnswers)
+{
+  TempFile f(".bag");
+  writeSampleBag(f.path());
+  for (const std::string topic : {std::string(kDefaultEventTopic), std::string(kTopic)})
+  {
+    auto source = openEventSource(f.path(), topic);
+    EXPECT_EQ(source->info().format, "ROS 1 bag, event_camera_msgs/EventPacket (evt3) on /event_camera/events");
+    EXPECT_EQ(source->info().width, 1280u);
+    EXPECT_EQ(source->info().height, 720u);
+    for (size_t block : {size_t(1000), size_t(777), size_t(100000)})
+    {
+      EventVector ev;
+      while (source->read(ev, block) > 0)
+      {
+      }
+      ASSERT_EQ(ev.size(), 82469u) << topic << " block " << block;
+      EXPECT_EQ(ev.front(), (Event{14224870000, 354, 604, true}));
+      EXPECT_EQ(ev.back(), (Event{15476187000, 15, 157, false}));
+      int64_t st = 0;
+      for (const auto& e : ev)
+        st += e.t_ns;
+      EXPECT_EQ(st, 1222326831810000);
+      source->rewind();
+    }
+  }
+  const Recording r = readRecording(f.path());
+  EXPECT_EQ(r.format, "ROS 1 bag, event_camera_msgs/EventPacket (evt3) on /event_camera/events");
+  EXPECT_EQ(recordingFormatName(f.path()), r.format);
+  ASSERT_EQ(r.contents.stream.events.size(), 82469u);
+  EXPECT_EQ(r.contents.stream.width, 1280u);
+  EXPECT_EQ(r.contents.stream.events.back(), (Event{15476187000, 15, 157, false}));
+
+  // A topic that is neither: the dvs_msgs bag reader's error listing the topics.
+  try
+  {
+    openEventSource(f.path(), "/nothing");
+    ADD_FAILURE() << "no error";
+  }
+  catch (const EventFileError& e)
+  {
+    EXPECT_NE(std::string(e.what()).find("no topic /nothing in the bag"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("/event_camera/events [event_camera_msgs/EventPacket]"), std::string::npos)
+        << e.what();
+  }
+}
+
+// A dvs_msgs bag that also holds an EventPacket topic: the default topic /dvs/events is read.
+TEST(FormatsEventPacketBag, DvsMsgsTopicWinsOverEventPackets)
+{
+  TempFile f(".bag");
+  writeSampleBag(f.path());
+  {
+    rosbag::Bag bag(f.path(), rosbag::bagmode::Append);
+    EventVector ev{{1000, 1, 2, true}, {2000, 3, 4, false}};
+    writeEventsBag(bag, kDefaultEventTopic, ev, 128, 128);
+  }
+  auto source = openEventSource(f.path());
+  EXPECT_EQ(source->info().format, "ROS bag, dvs_msgs/EventArray on /dvs/events");
+  EventVector ev;
+  while (source->read(ev, 100) > 0)
+  {
+  }
+  EXPECT_EQ(ev.size(), 2u);
+  EXPECT_EQ(readRecording(f.path()).contents.stream.events.size(), 2u);
 }

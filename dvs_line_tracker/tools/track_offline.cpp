@@ -10,6 +10,7 @@
 #include <dvs_driver/event_validation.h>
 #include <dvs_driver/event_bag_io.h>
 #include <dvs_driver/event_text_io.h>
+#include <dvs_driver/progress_meter.h>
 #include <dvs_line_tracker/line_tracker.h>
 #include <dvs_line_tracker/tracker_params.h>
 
@@ -21,6 +22,7 @@
 #include <iostream>
 #include <map>
 #include <string>
+#include <sys/stat.h>
 
 using namespace dvs_line_tracker;
 
@@ -65,6 +67,13 @@ struct Args
 std::string inputName(const Args& args)
 {
   return args.has("events") ? args.get("events") : args.has("bag") ? args.get("bag") : args.get("aedat");
+}
+
+/// The input's size in bytes (0 when unknown), for the progress line.
+uint64_t inputBytes(const Args& args)
+{
+  struct stat st;
+  return ::stat(inputName(args).c_str(), &st) == 0 ? static_cast<uint64_t>(st.st_size) : 0;
 }
 
 /// A whole number in [1, max] for option `name`, or an error naming the option and the value.
@@ -131,7 +140,10 @@ int main(int argc, char** argv)
     dvs_driver::EventChecks input_checks;
     {
       // Any recording, its format detected from its bytes (--bag and --aedat are the same option).
-      dvs_driver::Recording recording = dvs_driver::readRecording(inputName(args), args.get("topic", "/dvs/events"));
+      dvs_driver::ProgressMeter meter("track_offline: reading " + inputName(args), 0);
+      dvs_driver::Recording recording = dvs_driver::readRecording(
+          inputName(args), args.get("topic", "/dvs/events"), meter.enabled() ? meter.callback() : dvs_driver::ReadProgress());
+      meter.finish(recording.contents.stream.events.size(), inputBytes(args));
       std::cerr << "track_offline: " << inputName(args) << ": " << recording.format << ", "
                 << recording.contents.stream.events.size() << " events"
                 << (recording.contents.stream.width > 0
@@ -223,10 +235,19 @@ int main(int argc, char** argv)
     };
     std::vector<Stamped> poses;
     poses.reserve(stream.events.size() + 1);
+    // Progress on a terminal only (percent of the file = share of its events tracked).
+    const uint64_t file_bytes = inputBytes(args), n_events = stream.events.size();
+    dvs_driver::ProgressMeter progress("track_offline: tracking", file_bytes);
     const auto t0 = std::chrono::steady_clock::now();
-    for (const auto& e : stream.events)
+    for (size_t i = 0; i < stream.events.size(); ++i)
+    {
+      const auto& e = stream.events[i];
       if (tracker.processEvent(e))
         poses.push_back({e.t_ns, tracker.pose()});
+      if ((i & 0xFFF) == 0xFFF)
+        progress.update(i + 1, file_bytes * (i + 1) / n_events);
+    }
+    progress.finish(n_events, file_bytes);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
     out.write(std::string("# t tx ty tz qx qy qz qw (T_world_camera, TUM), dvs_line_tracker\n"));

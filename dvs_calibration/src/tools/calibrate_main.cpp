@@ -135,8 +135,11 @@ int main(int argc, char** argv)
     const std::string input = args.has("events") ? args.get("events") : args.has("bag") ? args.get("bag") : args.get("aedat");
     {
       dvs_driver::Recording recording = dvs_driver::readRecording(input, args.get("topic", dvs_driver::kDefaultEventTopic));
-      std::cerr << "calibrate: " << input << ": " << recording.format << ", " << recording.contents.stream.events.size()
-                << " events\n";
+      const dvs_driver::EventStream& s = recording.contents.stream;
+      std::cerr << "calibrate: " << input << ": " << recording.format << ", "
+                << (s.width > 0 ? std::to_string(s.width) + "x" + std::to_string(s.height)
+                                : std::string("no sensor size in the file"))
+                << ", " << s.events.size() << " events\n";
       for (const std::string& w : recording.warnings)
         std::cerr << "calibrate: warning: " << input << ": " << w << "\n";
       stream = std::move(recording.contents.stream);

@@ -7,6 +7,7 @@
 #include <dvs_driver/event.h>
 #include <dvs_driver/event_source.h>
 #include <dvs_driver/event_text_io.h>
+#include <dvs_driver/formats/event_format.h>
 #include <dvs_msgs/EventArray.h>
 #include <ros/time.h>
 
@@ -85,8 +86,17 @@ private:
   EventSourceInfo info_;
 };
 
-/// Any recorded event file for streaming: a `.bag` (topic `topic`) or what openEventFileSource opens.
+/// Any recorded event file for streaming, its format detected from its bytes: a ROS 1 bag of
+/// dvs_msgs/EventArray (topic `topic`) or of event_camera_msgs/EventPacket (`topic` when it
+/// carries them; with the default topic absent, the bag's first EventPacket topic), Prophesee
+/// RAW, AEDAT 3.1/4.0, HDF5 (FormatReaderSource), or what openEventFileSource opens (AEDAT 2.0,
+/// events.txt). info().format names what was detected.
 std::unique_ptr<EventSource> openEventSource(const std::string& path, const std::string& topic = kDefaultEventTopic);
+
+/// The EventPacket reader (event_packet_bag.h) of a bag that openEventSource reads as
+/// event_camera_msgs/EventPacket messages (same rule), else nullptr (not such a bag).
+std::unique_ptr<EventFileReader> openEventPacketBagFor(const std::string& path,
+                                                       const std::string& topic = kDefaultEventTopic);
 
 /// Write events (sorted by time) to an open bag on `topic`, split into fixed-period packets:
 /// packet k holds the events with floor(t_ns / packet_period_ns) == k (periods aligned to

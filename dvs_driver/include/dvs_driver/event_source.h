@@ -18,6 +18,8 @@ struct EventSourceInfo
   uint32_t width = 0;         ///< sensor size; 0 when the file does not say (see scanSensorSize)
   uint32_t height = 0;
   std::string sensor_name;    ///< "DVS128", "DAVIS240", "DAVIS346" or ""
+  std::string format;         ///< detected format, e.g. "AEDAT 2.0", "Prophesee RAW EVT 3.0" (for messages)
+  int64_t expected_events = -1;  ///< events the file announces (AEDAT 4.0 data table), -1 unknown
   size_t truncated_bytes = 0; ///< bytes of an incomplete last record (ignored)
 };
 

@@ -2,6 +2,7 @@
 // Event Camera Dataset `events.txt`: one event a line, `t x y p`, t in seconds (decimal,
 // nanosecond resolution), x y integer pixels (top-left origin), p 1 = ON, 0 = OFF.
 #include <dvs_driver/event.h>
+#include <dvs_driver/progress_meter.h>
 #include <dvs_driver/event_source.h>
 
 #include <fstream>
@@ -24,6 +25,10 @@ public:
 /// a polarity other than 0/1, or a time that goes backwards.
 EventVector readEventsText(const std::string& path);
 EventVector readEventsText(std::istream& in, const std::string& name);
+/// The same with progress reports (progress_meter.h) every 65,536 lines: events, bytes read,
+/// `total_bytes`.
+EventVector readEventsText(std::istream& in, const std::string& name, const ReadProgress& progress,
+                           uint64_t total_bytes);
 
 /// An events.txt read a block of lines at a time (same checks as readEventsText). The sensor size
 /// is not stated in the file (info() width/height 0; see probeSource).

@@ -5,6 +5,7 @@
 // point of the offline tools (convert, track_offline, calibrate); the driver's file source
 // streams the same files through openEventSource (event_bag_io.h).
 #include <dvs_driver/event_file.h>
+#include <dvs_driver/progress_meter.h>
 
 #include <string>
 #include <vector>
@@ -20,8 +21,11 @@ struct Recording
 
 /// Read a whole recording (`topic` for bags). Throws EventFileError (or a subclass) naming the
 /// file and the problem; a truncated file gives every complete event before the damage and a
-/// warning with the byte offset.
-Recording readRecording(const std::string& path, const std::string& topic = "/dvs/events");
+/// warning with the byte offset. `progress` (optional, e.g. ProgressMeter::callback()) is called
+/// between batches with the events and bytes read so far (the binary formats, bags of EventPacket
+/// and events.txt; dvs_msgs bags report events only; AEDAT 2.0 is read in one piece).
+Recording readRecording(const std::string& path, const std::string& topic = "/dvs/events",
+                        const ReadProgress& progress = ReadProgress());
 
 /// The format readRecording / openEventSource will use for `path` (for messages).
 std::string recordingFormatName(const std::string& path);

@@ -11,24 +11,30 @@ bool BatchedReader::read(EventVector& out, size_t max_events)
   if (max_events == 0)
     return !(finished_ && pending_pos_ == pending_.size());
   const size_t n = std::min(max_events, kMaxBatch);
-  const size_t old = out.size();
   size_t appended = 0;
-  if (pending_pos_ < pending_.size())
+  while (appended < n)
   {
-    appended = std::min(n, pending_.size() - pending_pos_);
-    out.insert(out.end(), pending_.begin() + pending_pos_, pending_.begin() + pending_pos_ + appended);
-    pending_pos_ += appended;
-    if (pending_pos_ == pending_.size())
+    if (pending_pos_ < pending_.size())
     {
-      pending_.clear();
-      pending_pos_ = 0;
+      const size_t k = std::min(n - appended, pending_.size() - pending_pos_);
+      out.insert(out.end(), pending_.begin() + pending_pos_, pending_.begin() + pending_pos_ + k);
+      pending_pos_ += k;
+      appended += k;
+      if (pending_pos_ == pending_.size())
+      {
+        pending_.clear();
+        pending_pos_ = 0;
+      }
+      continue;
     }
-  }
-  if (appended < n && !finished_)
-  {
-    out.resize(old + n + kSlack);
-    Event* const start = out.data() + old + appended;
-    Event* const end = out.data() + old + n;
+    if (finished_)
+      break;
+    // Decode a piece into the reader's own buffer (cache-resident, allocated and constructed
+    // once) and append it: the caller's vector is written once, never zero-filled first.
+    if (!scratch_)
+      scratch_.reset(new Event[kPiece + kSlack]);
+    Event* const start = scratch_.get();
+    Event* const end = start + std::min(n - appended, kPiece);
     Event* p = decode(start, end);
     if (p < end)
       finished_ = true;
@@ -38,8 +44,8 @@ bool BatchedReader::read(EventVector& out, size_t max_events)
       pending_pos_ = 0;
       p = end;
     }
+    out.insert(out.end(), start, p);
     appended += static_cast<size_t>(p - start);
-    out.resize(old + appended);
   }
   stats_.events += appended;
   return appended > 0;

@@ -2,12 +2,20 @@
 
 namespace dvs_driver
 {
-FormatReaderSource::FormatReaderSource(const std::string& path) : path_(path), reader_(openEventFileReader(path))
+FormatReaderSource::FormatReaderSource(const std::string& path)
+  : FormatReaderSource(path, [path] { return openEventFileReader(path); })
+{
+}
+
+FormatReaderSource::FormatReaderSource(const std::string& path, std::function<std::unique_ptr<EventFileReader>()> open)
+  : path_(path), open_(std::move(open)), reader_(open_())
 {
   info_.name = path;
   info_.width = reader_->width();
   info_.height = reader_->height();
-  info_.sensor_name = reader_->formatName();
+  // No sensor model is named by these formats (the camera name becomes "dvs-file" unless set).
+  info_.format = reader_->formatName();
+  info_.expected_events = reader_->expectedEvents();
 }
 
 size_t FormatReaderSource::read(EventVector& out, size_t max_events)
@@ -20,7 +28,7 @@ size_t FormatReaderSource::read(EventVector& out, size_t max_events)
   return out.size() - before;
 }
 
-void FormatReaderSource::rewind() { reader_ = openEventFileReader(path_); }
+void FormatReaderSource::rewind() { reader_ = open_(); }
 
 EventChecks FormatReaderSource::checks() const
 {

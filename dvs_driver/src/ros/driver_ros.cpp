@@ -129,7 +129,17 @@ void DriverRos::openFile()
     replay_first_ns_ = probe.empty ? 0 : probe.first_t_ns;
     builder_.stamps.setBase(nowNs() - replay_first_ns_);
   }
-  ROS_INFO_STREAM("dvs_driver: replaying " << params_.file << " (" << width_ << "x" << height_ << ", streamed) at "
+  // What was detected: format, sensor size, the events when the file announces them (the count
+  // read is logged at the end of the file).
+  const EventSourceInfo& info = source->info();
+  file_format_ = info.format.empty() ? "?" : info.format;
+  ROS_INFO_STREAM("dvs_driver: replaying " << params_.file << ": " << file_format_ << ", "
+                                           << width_ << "x" << height_
+                                           << (info.width == 0 || info.height == 0 ? " (from its events)" : "")
+                                           << (info.expected_events >= 0
+                                                   ? ", " + std::to_string(info.expected_events) + " events"
+                                                   : std::string())
+                                           << ", streamed at "
                                            << (params_.replay_speed > 0 ? std::to_string(params_.replay_speed) + "x"
                                                                         : std::string("full speed")));
   FileReplayOptions fo;
@@ -378,8 +388,9 @@ void DriverRos::onEndOfInput()
   MessageSink sink{*this};
   builder_.flush(sink);
   end_of_input_ = true;
-  ROS_INFO_STREAM("dvs_driver: end of " << params_.file << ": " << events_published_ << " events in "
-                                        << packets_published_ << " packets");
+  ROS_INFO_STREAM("dvs_driver: end of " << params_.file << " (" << file_format_ << ", " << width_ << "x" << height_
+                                        << "): " << events_published_ + events_without_subscriber_ << " events read, "
+                                        << events_published_ << " published in " << packets_published_ << " packets");
 }
 
 void DriverRos::onInputError(const std::string& message)

@@ -86,6 +86,7 @@ private:
   ros::WallTimer flush_timer_;
   size_t reserve_ = 1024;
   uint32_t width_ = 128, height_ = 128;
+  std::string file_format_;            // a recording's detected format (for the log)
   int64_t replay_first_ns_ = 0;        // time of a recording's first event (file_time replay)
   int64_t pending_reset_ns_ = -1;      // host time of the last reset request not yet seen
   int64_t slave_reset_ns_ = -1;        // the master's reset time a slave adopts

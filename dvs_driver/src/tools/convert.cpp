@@ -13,6 +13,7 @@
 #include <dvs_driver/formats/aedat4.h>
 #include <dvs_driver/formats/hdf5_events.h>
 #include <dvs_driver/formats/prophesee_raw.h>
+#include <dvs_driver/progress_meter.h>
 #include <dvs_driver/recording.h>
 
 #include <cstdio>
@@ -139,7 +140,8 @@ void checkMemory(const std::string& input)
       need = size + size / 8 * 16;
       break;
     case dvs_driver::EventFileFormat::Bag:
-      need = size / 13 * 16;
+      // dvs_msgs: 13 bytes per event; event_camera_msgs/EventPacket (EVT 3.0): 2 bytes or more
+      need = dvs_driver::openEventPacketBagFor(input) ? size * 8 : size / 13 * 16;
       break;
     case dvs_driver::EventFileFormat::Text:
       need = size / 18 * 16;
@@ -186,7 +188,15 @@ int main(int argc, char** argv)
   {
     checkMemory(input);
     // Any recording, its format detected from its bytes (recording.h).
-    dvs_driver::Recording recording = dvs_driver::readRecording(input, o.topic);
+    // Progress (events, percent of the file, rate) on stderr only when it is a terminal.
+    dvs_driver::ProgressMeter meter("convert: reading " + input, 0);
+    dvs_driver::Recording recording =
+        dvs_driver::readRecording(input, o.topic, meter.enabled() ? meter.callback() : dvs_driver::ReadProgress());
+    {
+      struct stat st;
+      meter.finish(recording.contents.stream.events.size(),
+                   ::stat(input.c_str(), &st) == 0 ? static_cast<uint64_t>(st.st_size) : 0);
+    }
     dvs_driver::EventFileContents& in = recording.contents;
     for (const std::string& w : recording.warnings)
       std::cerr << "convert: warning: " << input << ": " << w << "\n";
