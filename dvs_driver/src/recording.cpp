@@ -48,8 +48,8 @@ Recording readRecording(const std::string& path, const std::string& topic)
   if (reader->expectedEvents() > 0)
     events.reserve(static_cast<size_t>(reader->expectedEvents()));
   while (reader->read(events, 1 << 20))
-  {
-  }
+    reader->takeImu(r.contents.imu);  // bounded in the reader: taken after every read
+  reader->takeImu(r.contents.imu);
   r.contents.stream.width = reader->width();
   r.contents.stream.height = reader->height();
   r.contents.sensor_name = reader->formatName();

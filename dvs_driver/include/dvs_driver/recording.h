@@ -18,7 +18,8 @@ struct Recording
   std::vector<std::string> warnings;  ///< what the reader noticed (damaged packets, truncation, ...)
 };
 
-/// Read a whole recording (`topic` for bags). Throws EventFileError (or a subclass) naming the
+/// Read a whole recording (`topic` for bags) with its IMU samples when the format carries them
+/// (contents.imu: AEDAT 2.0 DAVIS files, AEDAT 4.0 IMUS streams). Throws EventFileError (or a subclass) naming the
 /// file and the problem; a truncated file gives every complete event before the damage and a
 /// warning with the byte offset.
 Recording readRecording(const std::string& path, const std::string& topic = "/dvs/events");
