@@ -131,9 +131,9 @@ std::string formatImuLine(const ImuSample& s)
   return std::string(buf, formatSample(s, buf, sizeof(buf)));
 }
 
-void writeImuText(std::ostream& out, const ImuVector& samples)
+void writeImuText(std::ostream& out, const ImuVector& samples, const char* header)
 {
-  out << kImuTextHeader;
+  out << header;
   char buf[256];
   for (size_t i = 0; i < samples.size(); ++i)
   {
@@ -144,10 +144,10 @@ void writeImuText(std::ostream& out, const ImuVector& samples)
   }
 }
 
-void writeImuText(const std::string& path, const ImuVector& samples)
+void writeImuText(const std::string& path, const ImuVector& samples, const char* header)
 {
   CheckedFileWriter out(path);  // throws WriteError naming the file and the reason
-  writeImuText(out.stream(), samples);
+  writeImuText(out.stream(), samples, header);
   out.commit();
 }
 }  // namespace dvs_driver

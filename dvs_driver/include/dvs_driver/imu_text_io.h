@@ -21,11 +21,12 @@ ImuVector readImuText(std::istream& in, const std::string& name);
 /// form that reads back to the same double (exact round trip).
 std::string formatImuLine(const ImuSample& s);
 
-/// Write samples as imu.txt (a `# t ax ay az gx gy gz` header line first), checked
-/// (checked_write.h): throws WriteError naming the file and the OS reason; the file appears
-/// under its name only when complete. Throws EventFileError for a non-finite value.
-void writeImuText(const std::string& path, const ImuVector& samples);
-void writeImuText(std::ostream& out, const ImuVector& samples);
-/// The header line writeImuText starts with (with its newline).
+/// The header line writeImuText starts with by default (with its newline).
 extern const char* const kImuTextHeader;
+
+/// Write samples as imu.txt (`header` first: a `#` comment line, kImuTextHeader by default),
+/// checked (checked_write.h): throws WriteError naming the file and the OS reason; the file
+/// appears under its name only when complete. Throws EventFileError for a non-finite value.
+void writeImuText(const std::string& path, const ImuVector& samples, const char* header = kImuTextHeader);
+void writeImuText(std::ostream& out, const ImuVector& samples, const char* header = kImuTextHeader);
 }  // namespace dvs_driver
