@@ -3,6 +3,11 @@
 #include <dvs_driver/event_bag_io.h>
 #include <dvs_driver/event_text_io.h>
 #include <dvs_driver/formats/event_format.h>
+#include <dvs_driver/imu_msg.h>
+#include <rosbag/bag.h>
+#include <rosbag/view.h>
+
+#include <algorithm>
 
 namespace dvs_driver
 {
@@ -14,6 +19,33 @@ bool readByFormatReader(EventFormat f)
          f == EventFormat::Hdf5;
 }
 }  // namespace
+
+std::string imuTopicFor(const std::string& events_topic)
+{
+  const size_t slash = events_topic.rfind('/');
+  const std::string last = slash == std::string::npos ? events_topic : events_topic.substr(slash + 1);
+  if (last != "events")
+    return "";
+  return events_topic.substr(0, slash == std::string::npos ? 0 : slash + 1) + "imu";
+}
+
+ImuVector readImuBag(const std::string& path, const std::string& topic)
+{
+  ImuVector imu;
+  try
+  {
+    rosbag::Bag bag(path, rosbag::bagmode::Read);
+    for (const rosbag::MessageInstance& m : rosbag::View(bag, rosbag::TopicQuery(topic)))
+      if (const auto msg = m.instantiate<sensor_msgs::Imu>())
+        imu.push_back(fromImuMessage(*msg));
+  }
+  catch (const rosbag::BagException& e)
+  {
+    throw EventFileError(path + ": cannot read the IMU topic " + topic + ": " + e.what());
+  }
+  std::stable_sort(imu.begin(), imu.end(), [](const ImuSample& a, const ImuSample& b) { return a.t_ns < b.t_ns; });
+  return imu;
+}
 
 std::string recordingFormatName(const std::string& path)
 {
@@ -33,6 +65,9 @@ Recording readRecording(const std::string& path, const std::string& topic)
   {
     r.format = "ROS bag";
     r.contents.stream = readEventsBag(path, topic);
+    const std::string imu_topic = imuTopicFor(topic);
+    if (!imu_topic.empty())
+      r.contents.imu = readImuBag(path, imu_topic);
     return r;
   }
   if (!readByFormatReader(f))

@@ -3,6 +3,7 @@
 #include <dvs_driver/event_bag_io.h>
 #include <dvs_driver/recording.h>
 #include <dvs_driver/event_text_io.h>
+#include <dvs_driver/imu_msg.h>
 #include <dvs_driver/imu_text_io.h>
 #include <gtest/gtest.h>
 #include <rosbag/bag.h>
@@ -521,4 +522,38 @@ TEST(ConvertTool, ImuOfAnAedat4FileAndOfAFileWithout)
   EXPECT_NE(std::string::npos, bad.out.find("/nonexistent/imu.txt")) << bad.out;
   std::remove(out.c_str());
   std::remove(imu.c_str());
+}
+
+TEST(ConvertTool, ImuOfABagBesideItsEvents)
+{
+  // A bag like the simulator's: events on /dvs/events, sensor_msgs/Imu on /dvs/imu.
+  EXPECT_EQ("/dvs/imu", dvs_driver::imuTopicFor("/dvs/events"));
+  EXPECT_EQ("/cam0/imu", dvs_driver::imuTopicFor("/cam0/events"));
+  EXPECT_EQ("", dvs_driver::imuTopicFor("/dvs/packets"));
+  const std::string bag = tmp("imu.bag"), out = tmp("imu_bag_events.txt"), imu = tmp("imu_bag.txt");
+  dvs_driver::EventStream s;
+  s.width = s.height = 128;
+  for (int i = 0; i < 100; ++i)
+    s.events.push_back(dvs_driver::Event{1000000000LL + i * 100000, static_cast<uint16_t>(i), 5, i % 2 == 0});
+  dvs_driver::writeEventsBag(bag, "/dvs/events", s, 1000000);
+  dvs_driver::ImuVector written;
+  {
+    rosbag::Bag b(bag, rosbag::bagmode::Append);
+    for (int k = 0; k < 11; ++k)
+    {
+      dvs_driver::ImuSample m;
+      m.t_ns = 1000000000LL + k * 1000000;
+      m.accel[1] = -9.81 + 0.001 * k;
+      m.gyro[2] = 0.5 * k;
+      written.push_back(m);
+      const sensor_msgs::Imu msg = dvs_driver::toImuMessage(m, "dvs", 0.01, 0.1);
+      b.write("/dvs/imu", msg.header.stamp, msg);
+    }
+  }
+  const ToolRun r = run("--input " + bag + " --output " + out + " --imu " + imu);
+  ASSERT_EQ(0, r.status) << r.out;
+  EXPECT_NE(std::string::npos, r.out.find("\"imu_samples\":11}")) << r.out;
+  EXPECT_EQ(written, dvs_driver::readImuText(imu));
+  for (const std::string& f : {bag, out, imu})
+    std::remove(f.c_str());
 }

@@ -19,10 +19,17 @@ struct Recording
 };
 
 /// Read a whole recording (`topic` for bags) with its IMU samples when the format carries them
-/// (contents.imu: AEDAT 2.0 DAVIS files, AEDAT 4.0 IMUS streams). Throws EventFileError (or a subclass) naming the
+/// (contents.imu: AEDAT 2.0 DAVIS files, AEDAT 4.0 IMUS streams, bags: sensor_msgs/Imu on
+/// imuTopicFor(topic), e.g. /dvs/imu beside /dvs/events, sorted by stamp). Throws EventFileError (or a subclass) naming the
 /// file and the problem; a truncated file gives every complete event before the damage and a
 /// warning with the byte offset.
 Recording readRecording(const std::string& path, const std::string& topic = "/dvs/events");
+
+/// The IMU topic beside an event topic: its last name `events` replaced by `imu` ("/dvs/events"
+/// -> "/dvs/imu"); "" when the event topic's last name is not `events`.
+std::string imuTopicFor(const std::string& events_topic);
+/// Every sensor_msgs/Imu of `topic` in a bag, sorted by stamp (none: empty). Throws EventFileError.
+ImuVector readImuBag(const std::string& path, const std::string& topic);
 
 /// The format readRecording / openEventSource will use for `path` (for messages).
 std::string recordingFormatName(const std::string& path);
