@@ -2,6 +2,8 @@
 #include <dvs_driver/dvs128_decoder.h>
 
 #include <cerrno>
+#include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <iterator>
@@ -59,6 +61,52 @@ size_t findAedatDataOffset(const uint8_t* data, size_t size)
 
 namespace
 {
+// The value of a jAER preference line `<entry key="KEY" value="VALUE"/>` ("" when not this key).
+std::string preferenceValue(const std::string& line, const char* key)
+{
+  const std::string k = std::string("key=\"") + key + "\" value=\"";
+  const size_t a = line.find(k);
+  if (a == std::string::npos)
+    return "";
+  const size_t b = a + k.size(), e = line.find('"', b);
+  return e == std::string::npos ? "" : line.substr(b, e - b);
+}
+
+// DAVIS IMU full scales from the header's jAER preferences: the named settings first, else the
+// MPU-6150 configuration registers (bits 3-4 select 2/4/8/16 g and 250/500/1000/2000 deg/s).
+void parseImuScale(const std::string& line, AedatInfo& info)
+{
+  static const char* const kAccel[] = {"ImuAccelScaleG2", "ImuAccelScaleG4", "ImuAccelScaleG8", "ImuAccelScaleG16"};
+  static const char* const kGyro[] = {"GyroFullScaleDegPerSec250", "GyroFullScaleDegPerSec500",
+                                      "GyroFullScaleDegPerSec1000", "GyroFullScaleDegPerSec2000"};
+  std::string v = preferenceValue(line, "ImuAccelScale");
+  for (int k = 0; k < 4 && !v.empty(); ++k)
+    if (v == kAccel[k])
+    {
+      info.imu_accel_full_scale_g = 2 << k;
+      info.imu_accel_scale_named = info.imu_scale_from_header = true;
+    }
+  v = preferenceValue(line, "ImuGyroScale");
+  for (int k = 0; k < 4 && !v.empty(); ++k)
+    if (v == kGyro[k])
+    {
+      info.imu_gyro_full_scale_deg_s = 250 << k;
+      info.imu_gyro_scale_named = info.imu_scale_from_header = true;
+    }
+  v = preferenceValue(line, "CPLDByte.imu4_ACCEL_CONFIG");
+  if (!v.empty() && !info.imu_accel_scale_named)
+  {
+    info.imu_accel_full_scale_g = 2 << ((std::atoi(v.c_str()) >> 3) & 3);
+    info.imu_scale_from_header = true;
+  }
+  v = preferenceValue(line, "CPLDByte.imu3_GYRO_CONFIG");
+  if (!v.empty() && !info.imu_gyro_scale_named)
+  {
+    info.imu_gyro_full_scale_deg_s = 250 << ((std::atoi(v.c_str()) >> 3) & 3);
+    info.imu_scale_from_header = true;
+  }
+}
+
 // Checks magic and version, finds the data offset, and reads the sensor from the header
 // (`# AEChip:`, else the HardwareInterface line). Returns false when the header does not say.
 bool parseAedatHeader(const uint8_t* data, size_t size, const std::string& name, AedatInfo& info)
@@ -77,6 +125,7 @@ bool parseAedatHeader(const uint8_t* data, size_t size, const std::string& name,
     const size_t end = headerLineEnd(data, size, pos);
     const std::string line = lineText(data, pos, end);
     pos = end;
+    parseImuScale(line, info);
     if (line.rfind("# AEChip:", 0) == 0)
       info.ae_chip = line.substr(line.find_first_not_of(' ', 9) == std::string::npos ? line.size()
                                                                                           : line.find_first_not_of(' ', 9));
@@ -137,8 +186,68 @@ struct AedatRecordDecoder
   int64_t last_t_us = INT64_MIN;
   bool first = true;
   EventValidator raw;  // the file's times before clamping, clamps, records outside the sensor
+  // The DAVIS IMU sample being assembled: codes 0..next_code-1 seen, all at imu_t_us.
+  int next_code = 0;
+  int16_t imu_raw[7] = {0, 0, 0, 0, 0, 0, 0};
+  int64_t imu_t_us = 0;
+  int64_t last_imu_t_us = INT64_MIN;
+  size_t imu_keep = SIZE_MAX;  // samples kept in the IMU output between takes
 
-  void decode(const uint8_t* records, uint64_t n, AedatInfo& info, uint32_t W, uint32_t H, EventVector& out)
+  // One IMU record (code, raw value) at t_us; a complete 7th record appends the sample.
+  void imuRecord(uint32_t addr, int64_t t_us, AedatInfo& info, ImuVector* imu)
+  {
+    const int code = static_cast<int>((addr >> 28) & 7u);
+    const int16_t value = static_cast<int16_t>((addr >> 12) & 0xFFFFu);
+    if (code != next_code || (code > 0 && t_us != imu_t_us))
+    {
+      info.imu_dropped += static_cast<uint64_t>(next_code);  // the incomplete sample so far
+      next_code = 0;
+      if (code != 0)
+      {
+        ++info.imu_dropped;
+        return;
+      }
+    }
+    imu_raw[code] = value;
+    imu_t_us = t_us;
+    if (++next_code < 7)
+      return;
+    next_code = 0;
+    if (t_us < last_imu_t_us || !imu || imu->size() >= imu_keep)
+    {
+      info.imu_dropped += 7;
+      return;
+    }
+    last_imu_t_us = t_us;
+    const double accel_lsb = 32768.0 / info.imu_accel_full_scale_g;  // LSB per g
+    const double gyro_lsb = gyroLsbPerDegS(info.imu_gyro_full_scale_deg_s);
+    ImuSample s;
+    s.t_ns = t_us * 1000;
+    for (int a = 0; a < 3; ++a)
+    {
+      s.accel[a] = imu_raw[a] / accel_lsb * kStandardGravity;
+      s.gyro[a] = imu_raw[4 + a] / gyro_lsb * (M_PI / 180.0);
+    }
+    s.temperature_c = imu_raw[3] / 340.0 + 35.0;
+    imu->push_back(s);
+    ++info.imu_decoded;
+  }
+
+  /// The records are over: an IMU sample still incomplete is dropped.
+  void finish(AedatInfo& info)
+  {
+    info.imu_dropped += static_cast<uint64_t>(next_code);
+    next_code = 0;
+  }
+
+  static double gyroLsbPerDegS(double full_scale)
+  {
+    // MPU-6150 datasheet: 131, 65.5, 32.8, 16.4 LSB per deg/s.
+    return full_scale <= 250 ? 131.0 : full_scale <= 500 ? 65.5 : full_scale <= 1000 ? 32.8 : 16.4;
+  }
+
+  void decode(const uint8_t* records, uint64_t n, AedatInfo& info, uint32_t W, uint32_t H, EventVector& out,
+              ImuVector* imu = nullptr)
   {
     const bool dvs128 = info.sensor == AedatSensor::DVS128;
     for (uint64_t i = 0; i < n; ++i)
@@ -174,7 +283,10 @@ struct AedatRecordDecoder
         if (addr & 0x80000000u)
         {
           if ((addr & 0x80000C00u) == 0x80000C00u)
+          {
             ++info.imu_samples;
+            imuRecord(addr, wrap_offset + ts, info, imu);
+          }
           else
             ++info.aps_samples;
           continue;
@@ -232,7 +344,8 @@ AedatRecording readAedat(const uint8_t* data, size_t size, const std::string& na
   stream.events.reserve(info.records);
   AedatRecordDecoder decoder;
   decoder.raw.setSensor(stream.width, stream.height);
-  decoder.decode(records, info.records, info, stream.width, stream.height, stream.events);
+  decoder.decode(records, info.records, info, stream.width, stream.height, stream.events, &rec.imu);
+  decoder.finish(info);
   return rec;
 }
 
@@ -313,10 +426,20 @@ size_t AedatFileSource::read(EventVector& out, size_t max_events)
     in_.read(reinterpret_cast<char*>(bytes_.data()), static_cast<std::streamsize>(bytes_.size()));
     if (!in_)
       throw AedatError(info_.name + ": read error at record " + std::to_string(next_record_));
-    decoder_->decode(bytes_.data(), n, aedat_, info_.width, info_.height, out);
+    decoder_->decode(bytes_.data(), n, aedat_, info_.width, info_.height, out, &imu_);
     next_record_ += n;
+    if (next_record_ == aedat_.records)
+      decoder_->finish(aedat_);
   }
   return out.size() - before;
+}
+
+size_t AedatFileSource::takeImu(ImuVector& out)
+{
+  const size_t n = imu_.size();
+  out.insert(out.end(), imu_.begin(), imu_.end());
+  imu_.clear();
+  return n;
 }
 
 void AedatFileSource::rewind()
@@ -325,8 +448,11 @@ void AedatFileSource::rewind()
   in_.seekg(static_cast<std::streamoff>(aedat_.data_offset));
   *decoder_ = AedatRecordDecoder();
   decoder_->raw.setSensor(info_.width, info_.height);
+  decoder_->imu_keep = size_t(1) << 20;
+  imu_.clear();
   next_record_ = 0;
   aedat_.dvs_events = aedat_.sync_events = aedat_.aps_samples = aedat_.imu_samples = 0;
+  aedat_.imu_decoded = aedat_.imu_dropped = 0;
   aedat_.out_of_range = aedat_.non_monotonic = aedat_.timestamp_wraps = 0;
   aedat_.checks = decoder_->raw.checks();
 }

@@ -51,6 +51,7 @@ EventFileContents readEventFile(const std::string& path)
       out.truncated_bytes = rec.info.truncated_bytes;
       out.checks = rec.info.checks;
       out.aedat = rec.info;
+      out.imu = std::move(rec.imu);
       break;
     }
     case EventFileFormat::Text:

@@ -4,6 +4,11 @@
 #include <dvs_driver/event_packet_bag.h>
 #include <dvs_driver/event_text_io.h>
 #include <dvs_driver/formats/event_format.h>
+#include <dvs_driver/imu_msg.h>
+#include <rosbag/bag.h>
+#include <rosbag/view.h>
+
+#include <algorithm>
 
 #include <cerrno>
 #include <cstring>
@@ -20,6 +25,33 @@ bool readByFormatReader(EventFormat f)
          f == EventFormat::Hdf5;
 }
 }  // namespace
+
+std::string imuTopicFor(const std::string& events_topic)
+{
+  const size_t slash = events_topic.rfind('/');
+  const std::string last = slash == std::string::npos ? events_topic : events_topic.substr(slash + 1);
+  if (last != "events")
+    return "";
+  return events_topic.substr(0, slash == std::string::npos ? 0 : slash + 1) + "imu";
+}
+
+ImuVector readImuBag(const std::string& path, const std::string& topic)
+{
+  ImuVector imu;
+  try
+  {
+    rosbag::Bag bag(path, rosbag::bagmode::Read);
+    for (const rosbag::MessageInstance& m : rosbag::View(bag, rosbag::TopicQuery(topic)))
+      if (const auto msg = m.instantiate<sensor_msgs::Imu>())
+        imu.push_back(fromImuMessage(*msg));
+  }
+  catch (const rosbag::BagException& e)
+  {
+    throw EventFileError(path + ": cannot read the IMU topic " + topic + ": " + e.what());
+  }
+  std::stable_sort(imu.begin(), imu.end(), [](const ImuSample& a, const ImuSample& b) { return a.t_ns < b.t_ns; });
+  return imu;
+}
 
 std::string recordingFormatName(const std::string& path)
 {
@@ -51,6 +83,9 @@ Recording readRecording(const std::string& path, const std::string& topic, const
     while (source.read(s.events, 1 << 16) > 0)
       if (progress)
         progress(s.events.size(), 0, 0);
+    const std::string imu_topic = imuTopicFor(topic);
+    if (!imu_topic.empty())
+      r.contents.imu = readImuBag(path, imu_topic);
     return r;
   }
   if (!reader && !readByFormatReader(f))
@@ -77,11 +112,15 @@ Recording readRecording(const std::string& path, const std::string& topic, const
   if (reader->expectedEvents() > 0)
     events.reserve(static_cast<size_t>(reader->expectedEvents()));
   while (reader->read(events, 1 << 16))
+  {
+    reader->takeImu(r.contents.imu);  // bounded in the reader: taken after every read
     if (progress)
     {
       const ReaderStats s = reader->stats();
       progress(events.size(), s.bytes_read, s.file_size);
     }
+  }
+  reader->takeImu(r.contents.imu);
   r.contents.stream.width = reader->width();
   r.contents.stream.height = reader->height();
   r.contents.sensor_name = reader->formatName();

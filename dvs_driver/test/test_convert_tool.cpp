@@ -3,10 +3,13 @@
 #include <dvs_driver/event_bag_io.h>
 #include <dvs_driver/recording.h>
 #include <dvs_driver/event_text_io.h>
+#include <dvs_driver/imu_msg.h>
+#include <dvs_driver/imu_text_io.h>
 #include <gtest/gtest.h>
 #include <rosbag/bag.h>
 
 #include <algorithm>
+#include <cmath>
 #include <array>
 #include <cstdio>
 #include <string>
@@ -217,7 +220,7 @@ TEST(ConvertTool, JsonHasTheInputChecks)
   EXPECT_NE(std::string::npos,
             r.out.find("\"records\":19182,\"skipped\":{\"sync\":0,\"aps\":0,\"imu\":0,\"out_of_range\":0},"
                        "\"outside_sensor\":0,\"backwards\":0,\"max_backwards_s\":0.000000000,\"clamped\":0,"
-                       "\"duplicates\":27}"))
+                       "\"duplicates\":27,\"imu_samples\":0}"))
       << r.out;
   EXPECT_EQ(std::string::npos, r.out.find("warning")) << r.out;
   std::remove(out.c_str());
@@ -313,7 +316,7 @@ TEST(ConvertTool, DuplicatedLinesAreCounted)
   const ToolRun r = run("--input " + in + " --output " + tmp("dup_out.txt"));
   ASSERT_EQ(0, r.status) << r.out;
   EXPECT_NE(std::string::npos, r.out.find("\"events\":100,")) << r.out;
-  EXPECT_NE(std::string::npos, r.out.find("\"duplicates\":50}")) << r.out;
+  EXPECT_NE(std::string::npos, r.out.find("\"duplicates\":50,")) << r.out;
   EXPECT_NE(std::string::npos, r.out.find("convert: warning: " + in + ": 50 exact duplicates (50% of 100 events)"))
       << r.out;
   std::remove(in.c_str());
@@ -469,4 +472,88 @@ TEST(ConvertToolFormats, TheDriversFileSourceStreamsEveryFormat)
     ASSERT_GT(source->read(block, 1), 0u);
     EXPECT_EQ(block.front(), streamed.front()) << file << ": rewind";
   }
+}
+
+TEST(ConvertTool, ImuOfADavisAedat2FileToImuTxt)
+{
+  // IMU_rotDisk.aedat: 7,384 IMU samples (51,688 IMU6 records); with --zero-time both files
+  // shift by the first event's time.
+  const std::string out = tmp("disk_events.txt"), imu = tmp("disk_imu.txt");
+  const ToolRun r = run("--input " + kData + "/IMU_rotDisk.aedat --output " + out + " --imu " + imu + " --zero-time");
+  ASSERT_EQ(0, r.status) << r.out;
+  EXPECT_NE(std::string::npos, r.out.find("\"imu_samples\":7384}")) << r.out;
+  const auto ref = dvs_driver::readAedat(kData + "/IMU_rotDisk.aedat");
+  const auto samples = dvs_driver::readImuText(imu);
+  ASSERT_EQ(ref.imu.size(), samples.size());
+  const int64_t shift = -ref.stream.events.front().t_ns;
+  for (size_t i = 0; i < samples.size(); ++i)
+  {
+    dvs_driver::ImuSample expected = ref.imu[i];
+    expected.t_ns += shift;
+    expected.temperature_c = NAN;  // imu.txt has no temperature
+    ASSERT_EQ(expected, samples[i]) << i;
+  }
+  EXPECT_EQ(342081000LL - 341678000LL, samples.front().t_ns);  // first IMU 403 us after the first event
+  std::remove(out.c_str());
+  std::remove(imu.c_str());
+}
+
+TEST(ConvertTool, ImuOfAnAedat4FileAndOfAFileWithout)
+{
+  const std::string out = tmp("davis346.txt"), imu = tmp("davis346_imu.txt");
+  const ToolRun r = run("--input " + std::string(DVS_FORMATS_DATA_DIR) + "/davis346_346x260.aedat4 --output " + out +
+                        " --imu " + imu);
+  ASSERT_EQ(0, r.status) << r.out;
+  EXPECT_NE(std::string::npos, r.out.find("\"imu_samples\":130}")) << r.out;
+  const auto samples = dvs_driver::readImuText(imu);
+  ASSERT_EQ(130u, samples.size());
+  EXPECT_EQ(1633953690976628000LL, samples.front().t_ns);
+  EXPECT_DOUBLE_EQ(-0.0604248046875 * dvs_driver::kStandardGravity, samples.front().accel[0]);
+  // A DVS128 recording has none: a warning, and an imu.txt with its header line only.
+  const ToolRun none = run("--input " + kData + "/ucsd_alex_walking_again.aedat --output " + out + " --imu " + imu);
+  ASSERT_EQ(0, none.status) << none.out;
+  EXPECT_NE(std::string::npos, none.out.find("convert: warning: " + kData +
+                                             "/ucsd_alex_walking_again.aedat: no IMU samples (AEDAT 2.0 carries none"))
+      << none.out;
+  EXPECT_TRUE(dvs_driver::readImuText(imu).empty());
+  // An imu.txt that cannot be written is an error naming it.
+  const ToolRun bad = run("--input " + kData + "/IMU_rotDisk.aedat --output " + out + " --imu /nonexistent/imu.txt");
+  EXPECT_EQ(1, bad.status) << bad.out;
+  EXPECT_NE(std::string::npos, bad.out.find("/nonexistent/imu.txt")) << bad.out;
+  std::remove(out.c_str());
+  std::remove(imu.c_str());
+}
+
+TEST(ConvertTool, ImuOfABagBesideItsEvents)
+{
+  // A bag like the simulator's: events on /dvs/events, sensor_msgs/Imu on /dvs/imu.
+  EXPECT_EQ("/dvs/imu", dvs_driver::imuTopicFor("/dvs/events"));
+  EXPECT_EQ("/cam0/imu", dvs_driver::imuTopicFor("/cam0/events"));
+  EXPECT_EQ("", dvs_driver::imuTopicFor("/dvs/packets"));
+  const std::string bag = tmp("imu.bag"), out = tmp("imu_bag_events.txt"), imu = tmp("imu_bag.txt");
+  dvs_driver::EventStream s;
+  s.width = s.height = 128;
+  for (int i = 0; i < 100; ++i)
+    s.events.push_back(dvs_driver::Event{1000000000LL + i * 100000, static_cast<uint16_t>(i), 5, i % 2 == 0});
+  dvs_driver::writeEventsBag(bag, "/dvs/events", s, 1000000);
+  dvs_driver::ImuVector written;
+  {
+    rosbag::Bag b(bag, rosbag::bagmode::Append);
+    for (int k = 0; k < 11; ++k)
+    {
+      dvs_driver::ImuSample m;
+      m.t_ns = 1000000000LL + k * 1000000;
+      m.accel[1] = -9.81 + 0.001 * k;
+      m.gyro[2] = 0.5 * k;
+      written.push_back(m);
+      const sensor_msgs::Imu msg = dvs_driver::toImuMessage(m, "dvs", 0.01, 0.1);
+      b.write("/dvs/imu", msg.header.stamp, msg);
+    }
+  }
+  const ToolRun r = run("--input " + bag + " --output " + out + " --imu " + imu);
+  ASSERT_EQ(0, r.status) << r.out;
+  EXPECT_NE(std::string::npos, r.out.find("\"imu_samples\":11}")) << r.out;
+  EXPECT_EQ(written, dvs_driver::readImuText(imu));
+  for (const std::string& f : {bag, out, imu})
+    std::remove(f.c_str());
 }

@@ -1,4 +1,5 @@
 #include <dvs_driver/event_text_io.h>
+#include <dvs_driver/imu_text_io.h>
 #include <dvs_screen_sim/dataset.h>
 #include <dvs_driver/checked_write.h>
 #include <dvs_calibration/trajectory_file.h>
@@ -57,6 +58,7 @@ SimulationOutput runSimulation(const SimConfig& config, const EventChunkSink& si
   const double offset = static_cast<double>(config.time_offset_ns) * 1e-9;
   for (auto& sp : out.groundtruth)
     sp.t += offset;
+  simulateImu(*trajectory, config.duration, config.imu, config.seed, config.time_offset_ns, out.imu, &out.imu_bias);
   return out;
 }
 
@@ -82,6 +84,15 @@ void writeDataset(const std::string& dir, const SimConfig& config, const Simulat
     throw std::runtime_error("cannot create output folder '" + dir + "': " + ec.message());
   dvs_driver::writeEventsText(dir + "/events.txt", output.events);
   writeDatasetWithoutEvents(dir, config, output.groundtruth);
+  writeImuFiles(dir, output);
+}
+
+const char* const kImuBiasHeader = "# t bax bay baz bgx bgy bgz: true IMU biases (s, m/s^2, rad/s) of each imu.txt sample\n";
+
+void writeImuFiles(const std::string& dir, const SimulationOutput& output)
+{
+  dvs_driver::writeImuText(dir + "/imu.txt", output.imu);
+  dvs_driver::writeImuText(dir + "/imu_bias_groundtruth.txt", output.imu_bias, kImuBiasHeader);
 }
 
 void writeDatasetWithoutEvents(const std::string& dir, const SimConfig& config, const dvs_calibration::Trajectory& groundtruth)

@@ -97,6 +97,19 @@ sampling:
   max_pixel_motion: 0.2
   min_dt: 1.0e-6
   max_dt: 1.0e-3
+imu:
+  rate: 1000.0
+  gyro_noise_density: 1.7e-4
+  gyro_random_walk: 2.0e-5
+  accel_noise_density: 2.0e-3
+  accel_random_walk: 3.0e-3
+  initial_gyro_bias_max: 0.01
+  initial_accel_bias_max: 0.05
+  initial_gyro_bias: ~
+  initial_accel_bias: ~
+  gravity: [0.0, -9.81, 0.0]
+  extrinsic_rotation: [0.0, 0.0, 0.0, 1.0]
+  extrinsic_translation: [0.0, 0.0, 0.0]
 )YAML";
 
 void mergeInto(YAML::Node base, const YAML::Node& over, const std::string& path)
@@ -237,6 +250,35 @@ NoiseConfig resolveNoise(YAML::Node n)
   return cfg;
 }
 
+ImuSimParams resolveImu(const YAML::Node& n)
+{
+  ImuSimParams imu;
+  dvs_driver::ParamTable table = imuParamTable(imu);
+  for (const auto& e : table.entries())
+    *e.d = num(n, e.name, "imu");  // every scalar of the table is a double
+  if (!n["initial_gyro_bias"].IsNull())
+    imu.initial_gyro_bias = vec3(n, "initial_gyro_bias", "imu");
+  if (!n["initial_accel_bias"].IsNull())
+    imu.initial_accel_bias = vec3(n, "initial_accel_bias", "imu");
+  imu.gravity = vec3(n, "gravity", "imu");
+  imu.p_camera_imu = vec3(n, "extrinsic_translation", "imu");
+  const auto q = as<std::vector<double>>(n["extrinsic_rotation"], "imu.extrinsic_rotation");
+  if (q.size() != 4)
+    throw ConfigError("configuration parameter 'imu.extrinsic_rotation' must have 4 numbers (qx, qy, qz, qw)");
+  const Eigen::Quaterniond quat(q[3], q[0], q[1], q[2]);
+  if (!(quat.norm() > 0.5 && quat.norm() < 2.0) || !quat.coeffs().allFinite())
+    throw ConfigError("configuration parameter 'imu.extrinsic_rotation' must be a unit quaternion [qx, qy, qz, qw]");
+  imu.q_camera_imu = quat.normalized();
+  try
+  {
+    imu.validate();
+  }
+  catch (const std::invalid_argument& e)
+  {
+    throw ConfigError(e.what());
+  }
+  return imu;
+}
 }  // namespace
 
 const std::vector<std::string>& scenarioNames()
@@ -411,6 +453,7 @@ SimConfig resolveSimConfig(const std::string& scenario, const YAML::Node& overri
   c.sampling.max_pixel_motion = num(sa, "max_pixel_motion", "sampling");
   c.sampling.min_dt = num(sa, "min_dt", "sampling");
   c.sampling.max_dt = num(sa, "max_dt", "sampling");
+  c.imu = resolveImu(tree["imu"]);
   try
   {
     c.events.validate();
@@ -436,11 +479,14 @@ SimConfig resolveSimConfig(const std::string& scenario, const YAML::Node& overri
   // Refused up front rather than running until killed: the ground truth is kept in memory
   // (one pose per sample), and an hour of a flying DVS is ~15 GB of events.txt.
   constexpr double kMaxDuration = 3600.0;
-  const double gt_megabytes = c.duration * c.groundtruth_rate * sizeof(dvs_calibration::StampedPose) / 1e6;
+  // The IMU samples and their true biases are kept in memory too.
+  const double gt_megabytes = (c.duration * c.groundtruth_rate * sizeof(dvs_calibration::StampedPose) +
+                               c.duration * c.imu.rate * 2 * sizeof(dvs_driver::ImuSample)) /
+                              1e6;
   if (c.duration > kMaxDuration || gt_megabytes > 2000.0)
     throw ConfigError("duration " + std::to_string(c.duration) + " s is more than the simulator runs at once (at most " +
-                      std::to_string(static_cast<int>(kMaxDuration)) + " s and 2000 MB of ground truth; this run's "
-                      "ground truth alone would take " + std::to_string(static_cast<long long>(gt_megabytes)) +
+                      std::to_string(static_cast<int>(kMaxDuration)) + " s and 2000 MB of ground truth and IMU samples; this run's "
+                      "ground truth and IMU samples would take " + std::to_string(static_cast<long long>(gt_megabytes)) +
                       " MB at " + std::to_string(c.groundtruth_rate) + " Hz): split it into shorter runs");
   tree["duration"] = c.duration;
   c.resolved = tree;

@@ -50,6 +50,12 @@ TEST(ParamTables, ConfigurationRunParametersAreInTheReadme)
   expectInReadme(simRunParamTable(p));
 }
 
+TEST(ParamTables, ConfigurationImuParametersAreInTheReadme)
+{
+  ImuSimParams p;
+  expectInReadme(imuParamTable(p));
+}
+
 TEST(ParamTables, DefaultsAreValidAndBadValuesAreNamed)
 {
   SimulatorParams p;

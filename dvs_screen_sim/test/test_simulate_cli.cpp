@@ -1,8 +1,10 @@
 // The `simulate` command line (other packages' tests depend on exactly this interface).
+#include <dvs_driver/imu_text_io.h>
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -50,6 +52,24 @@ TEST(SimulateCli, WritesTheDatasetFolderAndTheBag)
   while (std::getline(gt, line))
     lines += !line.empty() && line[0] != '#';
   EXPECT_EQ(lines, 51);  // 1 kHz over 0.05 s
+  // imu.txt and the true biases beside events.txt, readable by the suite's imu.txt reader.
+  const dvs_driver::ImuVector imu = dvs_driver::readImuText(dir + "/imu.txt");
+  const dvs_driver::ImuVector bias = dvs_driver::readImuText(dir + "/imu_bias_groundtruth.txt");
+  ASSERT_EQ(imu.size(), 51u);  // 1 kHz over 0.05 s
+  ASSERT_EQ(bias.size(), 51u);
+  EXPECT_EQ(imu[50].t_ns, 50000000);
+  for (size_t k = 0; k < imu.size(); ++k)
+  {
+    EXPECT_EQ(bias[k].t_ns, imu[k].t_ns);
+    // The helix circles at ~0.5 m radius and pi rad/s (~5 m/s^2 centripetal, plus the distance's
+    // growth), so |specific force| lies within 9.81 +- 5.5 (no impulse at the start, where it sets off).
+    const double f = std::sqrt(imu[k].accel[0] * imu[k].accel[0] + imu[k].accel[1] * imu[k].accel[1] +
+                               imu[k].accel[2] * imu[k].accel[2]);
+    EXPECT_NEAR(f, 9.81, 5.5) << k;
+    EXPECT_LE(std::sqrt(bias[k].accel[0] * bias[k].accel[0] + bias[k].accel[1] * bias[k].accel[1] +
+                        bias[k].accel[2] * bias[k].accel[2]),
+              0.06);
+  }
   std::filesystem::remove_all(dir);
 }
 

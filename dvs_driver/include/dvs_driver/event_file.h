@@ -3,6 +3,7 @@
 // Dataset text (`.txt`). Bags are read by event_bag_io.h (library dvs_driver_ros).
 #include <dvs_driver/aedat_reader.h>
 #include <dvs_driver/event.h>
+#include <dvs_driver/imu_sample.h>
 
 #include <string>
 
@@ -27,6 +28,7 @@ struct EventFileContents
   uint64_t skipped = 0;      ///< records/words read but not returned as events
   size_t truncated_bytes = 0;
   AedatInfo aedat;           ///< AEDAT files: what the reader found (skipped records by kind, ...)
+  ImuVector imu;             ///< IMU samples the file carries (AEDAT 2.0 DAVIS, AEDAT 4.0), else empty
   /// What the reader repaired or dropped itself (AEDAT: clamped times, records outside the
   /// sensor); validate the events for the rest (EventValidator).
   EventChecks checks;

@@ -5,6 +5,7 @@
 #include <dvs_driver/formats/compression.h>
 #include <dvs_driver/formats/flatbuffer_view.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <climits>
@@ -394,7 +395,7 @@ private:
            " is not an IMUS flatbuffer; skipped");
       return;
     }
-    constexpr float kG = 9.80665f, kDeg = 3.14159265358979f / 180.0f;
+    constexpr double kDeg = M_PI / 180.0;  // the file: accelerometer in g, gyroscope in deg/s
     for (uint32_t k = 0; k < count; ++k)
     {
       const uint64_t e = first + 4 * k;
@@ -415,8 +416,8 @@ private:
       s.temperature_c = imu.scalar<float>(1, 0.0f);
       for (unsigned a = 0; a < 3; ++a)
       {
-        s.accel[a] = imu.scalar<float>(2 + a, 0.0f) * kG;
-        s.gyro[a] = imu.scalar<float>(5 + a, 0.0f) * kDeg;
+        s.accel[a] = double(imu.scalar<float>(2 + a, 0.0f)) * kStandardGravity;
+        s.gyro[a] = double(imu.scalar<float>(5 + a, 0.0f)) * kDeg;
       }
       ++stats_.imu_samples;
       if (imu_.size() < kMaxKept)

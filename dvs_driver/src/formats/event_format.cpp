@@ -99,6 +99,7 @@ public:
     stats_.out_of_range = rec_.info.out_of_range;
     stats_.time_wraps = rec_.info.timestamp_wraps;
     stats_.time_backsteps = rec_.info.non_monotonic;
+    stats_.imu_samples = rec_.info.imu_decoded;
     if (rec_.info.truncated_bytes > 0)
     {
       stats_.truncated = true;
@@ -121,6 +122,14 @@ public:
   uint32_t height() const override { return rec_.stream.height; }
   std::string formatName() const override { return "AEDAT 2.0 (" + rec_.info.sensor_name + ")"; }
   ReaderStats stats() const override { return stats_; }
+  size_t takeImu(std::vector<ImuSample>& out) override
+  {
+    const size_t n = rec_.imu.size();
+    out.insert(out.end(), rec_.imu.begin(), rec_.imu.end());
+    rec_.imu.clear();
+    rec_.imu.shrink_to_fit();
+    return n;
+  }
 
 private:
   AedatRecording rec_;

@@ -1,5 +1,5 @@
 // rosrun dvs_driver convert --input IN --output OUT [--zero-time] [--width W --height H]
-//                           [--topic T] [--packet-period S]
+//                           [--topic T] [--packet-period S] [--imu IMU.txt]
 // IN: any recording (recording.h: AEDAT 2.0/3.1/4.0, Prophesee RAW, HDF5, dvs_msgs bags,
 // events.txt); OUT by extension: .aedat4, .raw (EVT 3.0), .h5/.hdf5, .bag (1 ms packets), else events.txt. Prints a one-line JSON summary on stdout:
 // {"events":N,"span_s":S,"width":W,"height":H,"sensor":"DVS128","skipped_words":K,...}
@@ -10,6 +10,7 @@
 #include <dvs_driver/event_file.h>
 #include <dvs_driver/event_text_io.h>
 #include <dvs_driver/event_validation.h>
+#include <dvs_driver/imu_text_io.h>
 #include <dvs_driver/formats/aedat4.h>
 #include <dvs_driver/formats/hdf5_events.h>
 #include <dvs_driver/formats/prophesee_raw.h>
@@ -29,6 +30,7 @@ namespace
 struct Options
 {
   std::string input, output, topic = dvs_driver::kDefaultEventTopic;
+  std::string imu;  ///< imu.txt to write the recording's IMU samples to ("" = none)
   double period_s = 0.001, period_ms = 1.0;
   int width = 0, height = 0;
   bool zero_time = false;
@@ -46,6 +48,7 @@ dvs_driver::ParamTable optionTable(Options& o)
   t.add("--width", o.width, "px", 0, 65536, "sensor width; 0 = from the file");
   t.add("--height", o.height, "px", 0, 65536, "sensor height; 0 = from the file");
   t.add("--zero-time", o.zero_time, "shift times so that the first event is at t = 0");
+  t.add("--imu", o.imu, {}, "also write the recording's IMU samples to this imu.txt (t ax ay az gx gy gz)");
   t.addRule([&o] {
     return (o.width > 0) != (o.height > 0) ? "give both --width and --height, or neither" : "";
   });
@@ -88,6 +91,10 @@ void usage(std::ostream& os)
         "                          smallest known sensor holding every event)\n"
         "  --zero-time             shift times so the first event is at t = 0 (needed to write\n"
         "                          negative AEDAT time stamps into a bag)\n"
+        "  --imu IMU.txt           also write the IMU samples (AEDAT 2.0 DAVIS, AEDAT 4.0 IMUS, a bag's\n"
+        "                          sensor_msgs/Imu beside the events topic, e.g. /dvs/imu) as\n"
+        "                          imu.txt: t ax ay az gx gy gz in s, m/s^2, rad/s, the IMU's axes,\n"
+        "                          same time base as the events (--zero-time shifts both)\n"
         "Prints one JSON line: events, span_s, width, height, sensor, skipped_words, ..., and the\n"
         "input checks (outside_sensor, backwards, max_backwards_s, clamped, duplicates).\n";
 }
@@ -304,6 +311,16 @@ int main(int argc, char** argv)
     }
     else
       dvs_driver::writeEventsText(output, s.events);  // checked: throws WriteError naming the file
+    if (!o.imu.empty())
+    {
+      // The IMU samples, on the events' time base (shifted with them by --zero-time).
+      for (dvs_driver::ImuSample& m : in.imu)
+        m.t_ns += offset_ns;
+      if (in.imu.empty())
+        std::cerr << "convert: warning: " << input << ": no IMU samples (" << recording.format
+                  << " carries none, or the camera's IMU was off): " << o.imu << " holds only its header line\n";
+      dvs_driver::writeImuText(o.imu, in.imu);  // checked: throws WriteError naming the file
+    }
 
     const double span = s.events.empty() ? 0.0 : (s.events.back().t_ns - s.events.front().t_ns) * 1e-9;
     char buf[512];
@@ -316,7 +333,7 @@ int main(int argc, char** argv)
                   static_cast<long long>(offset_ns));
     std::cout << buf << "\"records\":" << a.records << ",\"skipped\":{\"sync\":" << a.sync_events
               << ",\"aps\":" << a.aps_samples << ",\"imu\":" << a.imu_samples << ",\"out_of_range\":" << a.out_of_range
-              << "}," << checks.json() << "}" << std::endl;
+              << "}," << checks.json() << ",\"imu_samples\":" << in.imu.size() << "}" << std::endl;
   }
   catch (const std::exception& e)
   {

@@ -5,6 +5,7 @@
 //   /dvs/ground_truth/pose    geometry_msgs/PoseStamped (T_world_camera), at groundtruth_rate
 //   /tf                       tf2_msgs/TFMessage world -> dvs_gt, at groundtruth_rate
 //   /dvs/ground_truth/map     visualization_msgs/MarkerArray, at t = 0 and every 1 s
+//   /dvs/imu                  sensor_msgs/Imu, the simulated IMU's samples (frame dvs)
 // Bag record times = header stamps (a stamp of 0 is recorded at 1 ns: rosbag's minimum).
 #include <dvs_screen_sim/dataset.h>
 
@@ -27,8 +28,8 @@ public:
   SimulationBagWriter(const std::string& path, const SimConfig& config);
   ~SimulationBagWriter();
   void addEvents(const dvs_driver::EventVector& chunk);
-  /// Writes camera_info, ground truth, TF and the map, and closes the bag.
-  void finish(const dvs_calibration::Trajectory& groundtruth);
+  /// Writes camera_info, ground truth, TF, the map and the IMU samples, and closes the bag.
+  void finish(const dvs_calibration::Trajectory& groundtruth, const dvs_driver::ImuVector& imu = {});
 
 private:
   SimConfig config_;

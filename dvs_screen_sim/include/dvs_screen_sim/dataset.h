@@ -6,6 +6,8 @@
 //   camera_info.yaml the same camera as ROS camera_info YAML
 //   map.yaml         the tracker's line map (every edge of every in-map polygon, with `up`)
 //   config.yaml      the full resolved configuration (re-running with it reproduces the data)
+//   imu.txt          t ax ay az gx gy gz (Event Camera Dataset layout; the IMU's axes, imu_simulator.h)
+//   imu_bias_groundtruth.txt  t bax bay baz bgx bgy bgz: the true biases in each imu.txt sample
 // Times: simulation time t (starting at 0) + time_offset (default 0), in seconds.
 #include <dvs_driver/event.h>
 #include <dvs_screen_sim/event_simulator.h>
@@ -29,6 +31,8 @@ struct SimulationOutput
   dvs_driver::EventVector events;  ///< all events (empty when they were streamed to a sink)
   uint64_t event_count = 0;
   dvs_calibration::Trajectory groundtruth;      ///< times include the offset
+  dvs_driver::ImuVector imu;       ///< IMU samples at config.imu.rate (stamps include the offset)
+  dvs_driver::ImuVector imu_bias;  ///< the true biases of each IMU sample (accel, gyro), same stamps
   SimulationStats stats;
   double cpu_seconds = 0;          ///< process CPU time spent in the event simulation
 };
@@ -47,6 +51,10 @@ SimulationOutput runSimulation(const SimConfig& config, const EventChunkSink& si
 void writeDataset(const std::string& dir, const SimConfig& config, const SimulationOutput& output);
 /// groundtruth.txt, calib.txt, camera_info.yaml, map.yaml, config.yaml (creates the folder).
 void writeDatasetWithoutEvents(const std::string& dir, const SimConfig& config, const dvs_calibration::Trajectory& groundtruth);
+/// imu.txt and imu_bias_groundtruth.txt (the folder must exist); throws dvs_driver::WriteError.
+void writeImuFiles(const std::string& dir, const SimulationOutput& output);
+/// The header line of imu_bias_groundtruth.txt.
+extern const char* const kImuBiasHeader;
 
 /// events.txt written chunk by chunk (for streaming sinks).
 class EventsTextStream

@@ -6,6 +6,7 @@
 #include <dvs_calibration/camera_model.h>
 #include <dvs_driver/param_table.h>
 #include <dvs_screen_sim/event_simulator.h>
+#include <dvs_screen_sim/imu_simulator.h>
 #include <dvs_screen_sim/scene.h>
 #include <dvs_screen_sim/trajectory.h>
 #include <yaml-cpp/yaml.h>
@@ -38,6 +39,7 @@ struct SimConfig
   Scene scene;
   EventModelConfig events;
   SamplingConfig sampling;
+  ImuSimParams imu;     ///< the camera's IMU (the `imu` section)
   YAML::Node resolved;  ///< the full resolved configuration tree (what config.yaml holds)
 };
 

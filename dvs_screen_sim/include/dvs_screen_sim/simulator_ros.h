@@ -5,6 +5,7 @@
 //   dvs/camera_info         sensor_msgs/CameraInfo (latched, re-sent every 0.1 s simulated)
 //   dvs/ground_truth/pose   geometry_msgs/PoseStamped T_world_camera at groundtruth_rate
 //   dvs/ground_truth/map    visualization_msgs/MarkerArray (latched)
+//   dvs/imu                 sensor_msgs/Imu at imu.rate (frame camera_frame; imu_simulator.h)
 //   /tf                     world -> dvs_gt at groundtruth_rate
 // Private parameters: one table (simulator_params.h, printed in the package README; unknown
 // names are warned about, bad values refused naming the parameter). The simulation runs in its
@@ -40,7 +41,7 @@ private:
   double start_delay_ = 0.0;           ///< [s] wait before simulating
   bool wait_for_subscribers_ = false;  ///< wait for a subscriber on dvs/events before simulating
   std::string world_frame_, camera_frame_, gt_frame_;
-  ros::Publisher events_pub_, info_pub_, pose_pub_, map_pub_;
+  ros::Publisher events_pub_, info_pub_, pose_pub_, map_pub_, imu_pub_;
   std::unique_ptr<tf2_ros::TransformBroadcaster> tf_;
   std::atomic<bool> stop_{false};
   std::thread thread_;

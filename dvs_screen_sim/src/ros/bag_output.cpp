@@ -2,6 +2,7 @@
 #include <dvs_screen_sim/bag_output.h>
 #include <dvs_screen_sim/ros_conversions.h>
 #include <dvs_driver/checked_bag.h>
+#include <dvs_driver/imu_msg.h>
 #include <tf2_msgs/TFMessage.h>
 
 #include <algorithm>
@@ -32,7 +33,7 @@ void SimulationBagWriter::addEvents(const dvs_driver::EventVector& chunk)
                              static_cast<uint32_t>(config_.camera.height()), period_ns, "dvs");
 }
 
-void SimulationBagWriter::finish(const dvs_calibration::Trajectory& groundtruth)
+void SimulationBagWriter::finish(const dvs_calibration::Trajectory& groundtruth, const dvs_driver::ImuVector& imu)
 {
   const double t0 = static_cast<double>(config_.time_offset_ns) * 1e-9;
   const double t_end = t0 + config_.duration;
@@ -61,6 +62,11 @@ void SimulationBagWriter::finish(const dvs_calibration::Trajectory& groundtruth)
     tf.transforms.push_back(toTransform(sp, "world", "dvs_gt"));
     bag_->write("/tf", recordTime(pose.header.stamp), tf);
   }
+  for (const auto& s : imu)
+  {
+    const sensor_msgs::Imu m = dvs_driver::toImuMessage(s, "dvs", config_.imu.gyroSigma(), config_.imu.accelSigma());
+    bag_->write("/dvs/imu", recordTime(m.header.stamp), m);
+  }
   bag_->close();
 }
 
@@ -68,6 +74,6 @@ void writeSimulationBag(const std::string& path, const SimConfig& config, const 
 {
   SimulationBagWriter writer(path, config);
   writer.addEvents(output.events);
-  writer.finish(output.groundtruth);
+  writer.finish(output.groundtruth, output.imu);
 }
 }  // namespace dvs_screen_sim

@@ -1,4 +1,5 @@
 #include <dvs_driver/event_bag_io.h>
+#include <dvs_driver/imu_msg.h>
 #include <dvs_driver/param_table_ros.h>
 #include <dvs_screen_sim/ros_conversions.h>
 #include <dvs_screen_sim/simulator_params.h>
@@ -35,6 +36,7 @@ SimulatorRos::SimulatorRos(ros::NodeHandle nh, ros::NodeHandle pnh) : nh_(nh), p
   info_pub_ = nh_.advertise<sensor_msgs::CameraInfo>("dvs/camera_info", 1, true);
   pose_pub_ = nh_.advertise<geometry_msgs::PoseStamped>("dvs/ground_truth/pose", 100);
   map_pub_ = nh_.advertise<visualization_msgs::MarkerArray>("dvs/ground_truth/map", 1, true);
+  imu_pub_ = nh_.advertise<sensor_msgs::Imu>("dvs/imu", 1000);
   tf_ = std::make_unique<tf2_ros::TransformBroadcaster>();
   ROS_INFO("dvs_screen_sim: scenario %s, %.3f s, %dx%d, real_time_factor %.2f%s", scenario.c_str(),
            config_.duration, config_.camera.width(), config_.camera.height(), real_time_factor_,
@@ -67,6 +69,10 @@ void SimulatorRos::runLoop()
 {
   const auto trajectory = makeTrajectory(config_);
   EventSimulator sim(config_.camera, config_.scene, config_.events, config_.sampling, config_.seed);
+  ImuSimulator imu(config_.imu, config_.seed);
+  imu.setTimeRange(0.0, config_.duration);
+  dvs_driver::ImuVector imu_samples;
+  const double gyro_sigma = config_.imu.gyroSigma(), accel_sigma = config_.imu.accelSigma();
   const int64_t period_ns = static_cast<int64_t>(std::llround(config_.packet_period * 1e9));
   const double gt_period = 1.0 / config_.groundtruth_rate;
   sensor_msgs::CameraInfo info = dvs_calibration::toCameraInfoMsg(config_.camera, camera_frame_);
@@ -89,6 +95,7 @@ void SimulatorRos::runLoop()
     const int64_t base_ns = dvs_driver::rosTimeToNs(base) + config_.time_offset_ns;
     map_pub_.publish(mapMarkers(config_.scene, base, world_frame_));
     sim.start(*trajectory, 0.0, base_ns);
+    imu.restart();
     const auto wall_start = std::chrono::steady_clock::now();
     long gt_index = 0;
     double next_info = 0.0;
@@ -109,6 +116,10 @@ void SimulatorRos::runLoop()
                                          static_cast<uint32_t>(config_.camera.height()), camera_frame_);
         events_pub_.publish(msg);
       }
+      imu_samples.clear();
+      imu.advanceTo(*trajectory, t, base_ns, imu_samples);
+      for (const auto& s : imu_samples)
+        imu_pub_.publish(dvs_driver::toImuMessage(s, camera_frame_, gyro_sigma, accel_sigma));
       for (; gt_index * gt_period <= t + 1e-12; ++gt_index)
       {
         const double tg = gt_index * gt_period;

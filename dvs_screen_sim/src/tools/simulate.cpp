@@ -16,7 +16,8 @@ void usage(std::ostream& out)
 {
   out << "usage: simulate --scenario NAME --out DIR [--seed N] [--duration S] [--config FILE.yaml] [--bag]\n"
          "  NAME: flip | helix | circle | linear | random | file\n"
-         "  DIR receives events.txt, groundtruth.txt, calib.txt, camera_info.yaml, map.yaml, config.yaml\n"
+         "  DIR receives events.txt, groundtruth.txt, imu.txt, imu_bias_groundtruth.txt, calib.txt,\n"
+         "  camera_info.yaml, map.yaml, config.yaml\n"
          "  (and events.bag with --bag). --config overrides any parameter (see the package README).\n";
 }
 
@@ -123,13 +124,14 @@ int main(int argc, char** argv)
         });
     text.close();
     dvs_screen_sim::writeDatasetWithoutEvents(out_dir, config, output.groundtruth);
+    dvs_screen_sim::writeImuFiles(out_dir, output);
     if (bag_writer)
-      bag_writer->finish(output.groundtruth);
-    std::printf("simulate: %s, %.3f s simulated, %llu events (%llu noise), %llu samples, %.3f s CPU (%.2fx real time)"
-                " -> %s\n",
+      bag_writer->finish(output.groundtruth, output.imu);
+    std::printf("simulate: %s, %.3f s simulated, %llu events (%llu noise), %llu samples, %zu IMU samples, %.3f s CPU "
+                "(%.2fx real time) -> %s\n",
                 scenario.c_str(), config.duration, static_cast<unsigned long long>(output.event_count),
                 static_cast<unsigned long long>(output.stats.noise_events),
-                static_cast<unsigned long long>(output.stats.samples), output.cpu_seconds,
+                static_cast<unsigned long long>(output.stats.samples), output.imu.size(), output.cpu_seconds,
                 output.cpu_seconds > 0 ? config.duration / output.cpu_seconds : 0.0, out_dir.c_str());
   }
   catch (const std::exception& e)

@@ -4,6 +4,7 @@
 // Layouts: ../shared/reference/event-formats.md; the readers are in formats/*.h.
 #include <dvs_driver/event.h>
 #include <dvs_driver/event_text_io.h>
+#include <dvs_driver/imu_sample.h>
 
 #include <cstddef>
 #include <cstdint>
@@ -54,15 +55,6 @@ inline bool operator==(const TriggerEvent& a, const TriggerEvent& b)
   return a.t_ns == b.t_ns && a.channel == b.channel && a.edge == b.edge;
 }
 
-/// One IMU sample (AEDAT 4.0 IMUS stream), converted to SI units from the file's g and deg/s.
-struct ImuSample
-{
-  int64_t t_ns = 0;
-  float accel[3] = {0, 0, 0};  ///< m/s^2 (file: g, x 9.80665)
-  float gyro[3] = {0, 0, 0};   ///< rad/s (file: deg/s)
-  float temperature_c = 0;
-};
-
 /// What a reader met besides the events it delivered. Counters only grow.
 struct ReaderStats
 {
@@ -110,8 +102,10 @@ public:
   /// further ones are counted in stats().triggers only).
   virtual size_t takeTriggers(std::vector<TriggerEvent>& out);
 
-  /// Move the IMU samples decoded so far (in file order) to the end of `out`; returns how many.
-  /// Same bounds as takeTriggers. Formats without IMU data return 0.
+  /// Move the IMU samples decoded so far (in file order; imu_sample.h: SI units, the IMU's own
+  /// axes) to the end of `out`; returns how many. Same bounds as takeTriggers. Formats without
+  /// IMU data return 0. AEDAT 4.0: the first IMUS stream (file: g and deg/s); AEDAT 2.0: the
+  /// DAVIS IMU6 records (aedat_reader.h).
   virtual size_t takeImu(std::vector<ImuSample>& out);
 
   /// Total number of events the file announces (AEDAT 4.0 data table), -1 when unknown.
