@@ -26,6 +26,7 @@ void usage()
 {
   std::fprintf(stderr, "usage: benchmark_init_sweep [--scenes N (>= 1, default 64)] [--jobs J (1-16, default 2)] "
                        "[--scene I (only scene I)]\n"
+                       "       [--params tracker.yaml (tracker parameters, as track_offline --params)]\n"
                        "       [--dump DIR (with --scene: write its events.txt, groundtruth.txt, calib.txt, map.yaml)]\n");
 }
 
@@ -52,6 +53,7 @@ int main(int argc, char** argv)
 {
   int count = 64, jobs = 2, only = -1;
   std::string dump;
+  LineTrackerParams params;
   for (int i = 1; i < argc; ++i)
   {
     bool ok = i + 1 < argc;
@@ -63,6 +65,18 @@ int main(int argc, char** argv)
       ok = parseInt(argv[++i], 0, 9999, only);
     else if (ok && !std::strcmp(argv[i], "--dump"))
       dump = argv[++i];
+    else if (ok && !std::strcmp(argv[i], "--params"))
+    {
+      try
+      {
+        loadTrackerParamsYaml(argv[++i], params);
+      }
+      catch (const std::exception& e)
+      {
+        std::fprintf(stderr, "benchmark_init_sweep: %s\n", e.what());
+        return 2;
+      }
+    }
     else
       ok = false;
     if (!ok)
@@ -85,12 +99,7 @@ int main(int argc, char** argv)
       return 2;
     }
     const SweepScene scene = buildSweepScene(specs[only]);
-    dvs_driver::EventVector events;
-    dvs_screen_sim::EventSimulator sim(scene.camera, scene.scene, scene.events, dvs_screen_sim::SamplingConfig(),
-                                       scene.spec.seed);
-    sim.start(*scene.trajectory);
-    sim.advanceTo(scene.duration, events);
-    sim.flush(events);
+    const dvs_driver::EventVector events = simulateSweepScene(scene);
     dvs_driver::writeEventsText(dump + "/events.txt", events);
     dvs_calibration::writeTumTrajectory(dump + "/groundtruth.txt",
                                         dvs_screen_sim::sampleTrajectory(*scene.trajectory, scene.duration, 1000.0));
@@ -113,7 +122,7 @@ int main(int argc, char** argv)
       try
       {
         scenes[i] = buildSweepScene(specs[i]);
-        results[i] = runSweepScene(scenes[i]);
+        results[i] = runSweepScene(scenes[i], params);
       }
       catch (const std::exception& e)
       {

@@ -86,18 +86,23 @@ double edgesFireTime(const SweepScene& s, const dvs_calibration::Trajectory& gt)
 }
 }  // namespace
 
+dvs_driver::EventVector simulateSweepScene(const SweepScene& s, double* cpu_s)
+{
+  dvs_driver::EventVector events;
+  const double c0 = cpuSeconds();
+  dvs_screen_sim::EventSimulator sim(s.camera, s.scene, s.events, dvs_screen_sim::SamplingConfig(), s.spec.seed);
+  sim.start(*s.trajectory);
+  sim.advanceTo(s.duration, events);
+  sim.flush(events);
+  if (cpu_s)
+    *cpu_s = cpuSeconds() - c0;
+  return events;
+}
+
 SweepResult runSweepScene(const SweepScene& s, const LineTrackerParams& params)
 {
   SweepResult r;
-  dvs_driver::EventVector events;
-  {
-    const double c0 = cpuSeconds();
-    dvs_screen_sim::EventSimulator sim(s.camera, s.scene, s.events, dvs_screen_sim::SamplingConfig(), s.spec.seed);
-    sim.start(*s.trajectory);
-    sim.advanceTo(s.duration, events);
-    sim.flush(events);
-    r.simulator_cpu_s = cpuSeconds() - c0;
-  }
+  const dvs_driver::EventVector events = simulateSweepScene(s, &r.simulator_cpu_s);
   r.events = events.size();
   const dvs_calibration::Trajectory gt = dvs_screen_sim::sampleTrajectory(*s.trajectory, s.duration, 1000.0);
   r.edges_fire_s = edgesFireTime(s, gt);

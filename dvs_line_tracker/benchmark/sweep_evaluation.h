@@ -7,6 +7,8 @@
 #include <dvs_line_tracker/tracker_initializer.h>
 #include <dvs_line_tracker/tracker_params.h>
 
+#include <dvs_driver/event.h>
+
 #include <cstdint>
 
 namespace dvs_line_tracker
@@ -31,6 +33,10 @@ struct SweepResult
   uint64_t events_outside_sensor = 0;
   InitializerStats init_stats;
 };
+
+/// The scene's events from the software DVS (seeded by spec.seed); `cpu_s` (optional) receives
+/// the simulation's thread CPU time.
+dvs_driver::EventVector simulateSweepScene(const SweepScene& scene, double* cpu_s = nullptr);
 
 /// Simulates the scene (seeded by spec.seed) and runs a fresh tracker with `params` over it.
 SweepResult runSweepScene(const SweepScene& scene, const LineTrackerParams& params = LineTrackerParams());

@@ -85,7 +85,11 @@ HoughLineDetector::HoughLineDetector(int width, int height, const HoughParams& p
   num_theta_ = static_cast<int>(std::lround(180.0 / params.angle_bin_deg));
   cx_ = (width - 1) / 2.0;
   cy_ = (height - 1) / 2.0;
-  r_max_ = std::max(std::hypot(width / 2.0 + 4, height / 2.0 + 4), ideal_radius_px + 4);
+  // The radius grid is anchored at the sensor's half diagonal (+4 px); an undistorted image
+  // reaching further (barrel distortion) adds whole bins, so the grid does not shift.
+  r_max_ = std::hypot(width / 2.0 + 4, height / 2.0 + 4);
+  if (ideal_radius_px + 4 > r_max_)
+    r_max_ += std::ceil((ideal_radius_px + 4 - r_max_) / params.radius_bin_px) * params.radius_bin_px;
   num_r_ = static_cast<int>(std::ceil(2 * r_max_ / params.radius_bin_px));
   for (int k = 0; k < num_theta_; ++k)
   {

@@ -80,6 +80,7 @@ LineTracker::LineTracker(const dvs_calibration::CameraModel& camera, const LineM
 {
   estimator_.resize(map.segments.size(), params_.buffer_size);
   max_backwards_ns_ = static_cast<int64_t>(params_.max_time_backwards_s * 1e9);
+  max_gap_ns_ = static_cast<int64_t>(params_.max_event_gap_s * 1e9);
 }
 
 void LineTracker::reset()
@@ -110,6 +111,8 @@ bool LineTracker::processEvent(const dvs_driver::Event& e)
 {
   if (have_time_ && e.t_ns < now_ns_ - max_backwards_ns_)
     restartAfterTimeJump(e.t_ns);
+  else if (status_ == TrackerState::kTracking && !propagator_ && max_gap_ns_ > 0 && e.t_ns - now_ns_ > max_gap_ns_)
+    declareLost("no events for " + std::to_string((e.t_ns - now_ns_) * 1e-9) + " s: the pose is stale");
   ++stats_.events;
   now_ns_ = e.t_ns;
   have_time_ = true;

@@ -9,6 +9,10 @@ namespace dvs_line_tracker
 {
 namespace
 {
+/// Polygons whose sides' gaps to their corners exceed this fraction of the perimeter need one
+/// more confirmation.
+constexpr double kInferredOutlineRatio = 0.25;
+
 /// A second hypothesis explaining this fraction of the best one's evidence makes it ambiguous.
 constexpr double kAmbiguityRatio = 0.85;
 
@@ -37,6 +41,19 @@ HoughParams scaledHough(const TrackingGeometry& g, const LineTrackerParams& p)
   return h;
 }
 }  // namespace
+
+std::string InitializerStats::json() const
+{
+  const std::pair<const char*, uint64_t> fields[] = {
+      {"attempts", attempts},         {"segments", segments},         {"polygons", polygons},
+      {"cut_by_border", cut_by_border}, {"pose_failed", pose_failed}, {"coverage_failed", coverage_failed},
+      {"ambiguous", ambiguous},       {"unconfirmed", unconfirmed},   {"declined", declined},
+      {"accepted", accepted},         {"prior_attempts", prior_attempts}, {"prior_accepted", prior_accepted}};
+  std::string out = "{";
+  for (const auto& f : fields)
+    out += std::string(out.size() > 1 ? ", " : "") + "\"" + f.first + "\": " + std::to_string(f.second);
+  return out + "}";
+}
 
 TrackerInitializer::TrackerInitializer(const TrackingGeometry& geometry, const LineTrackerParams& params)
   : geometry_(geometry)
@@ -129,11 +146,11 @@ bool TrackerInitializer::alongBorder(const ImageSegment& sg) const
          near(sg.p0.y(), sg.p1.y(), h);
 }
 
-bool TrackerInitializer::confirmed(const Pose& pose)
+bool TrackerInitializer::confirmed(const Pose& pose, int extra)
 {
   // Two detections in a row must agree (a false polygon from smeared or partial edges rarely
   // repeats itself consistently).
-  if (params_.init_confirmations <= 0)
+  if (params_.init_confirmations + extra <= 0)
     return true;
   int agreeing = 0;
   for (const auto& earlier : recent_)
@@ -144,7 +161,7 @@ bool TrackerInitializer::confirmed(const Pose& pose)
   recent_.push_back(pose);
   if (recent_.size() > 4)
     recent_.erase(recent_.begin());
-  return agreeing >= params_.init_confirmations;
+  return agreeing >= params_.init_confirmations + extra;
 }
 
 bool TrackerInitializer::tryInitialize(const StartTracking& start)
@@ -213,7 +230,10 @@ bool TrackerInitializer::tryInitialize(const StartTracking& start)
         ++stats_.ambiguous;
         continue;
       }
-      if (!confirmed(init.pose))
+      // The more of a polygon's outline is inferred rather than seen (sides stopping short of
+      // their corners), the more it must repeat itself: one more agreeing detection when the
+      // gaps exceed a quarter of the perimeter (a walking person's limbs made such a square).
+      if (!confirmed(init.pose, polygon.gap_px > kInferredOutlineRatio * polygon.perimeter() ? 1 : 0))
       {
         ++stats_.unconfirmed;
         return false;

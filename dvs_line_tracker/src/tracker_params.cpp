@@ -40,6 +40,8 @@ dvs_driver::ParamTable trackerParamTable(LineTrackerParams& p, std::string& solv
         "side coverage is validated on this many Hough windows of the latest voted events");
   t.add("reacquire_prior", p.reacquire_prior_s, "s", 0, 3600,
         "after a loss, the last tracked pose is tried first for this long (0: off)");
+  t.add("max_event_gap", p.max_event_gap_s, "s", 0, 3600,
+        "while tracking without IMU, a longer gap between events makes the pose stale: lost, re-acquired (0: off)");
   t.add("init_check_interval", p.init_check_interval, "events", 1, 10000000, "voted events between detection attempts");
   t.add("init_min_check_period", p.init_min_check_period_s, "s", 0, 10, "and at least this much event time between attempts");
   t.add("init_min_events", p.init_min_events, "events", 0, 10000000, "voted events before the first attempt");

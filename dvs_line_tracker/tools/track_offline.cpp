@@ -263,6 +263,14 @@ int main(int argc, char** argv)
     out.commit();
 
     const auto& st = tracker.stats();
+    if (st.initializations == 0)
+    {
+      const auto& is = tracker.initializerStats();
+      std::cerr << "track_offline: no pose: " << is.attempts << " detection attempts found " << is.polygons
+                << " image polygons with the map's side counts; " << is.coverage_failed
+                << " were not backed by events along every visible map edge, " << is.ambiguous << " ambiguous, "
+                << is.unconfirmed << " unconfirmed (is the map right, the target in view and moving?)\n";
+    }
     if (st.events_outside_sensor > 0)
       std::cerr << "track_offline: warning: " << st.events_outside_sensor << " events lie outside the "
                 << camera.width() << "x" << camera.height()
@@ -271,12 +279,13 @@ int main(int argc, char** argv)
         "{\"events_read\": %zu, \"events_attributed\": %llu, \"pose_updates\": %llu, \"initializations\": %llu, "
         "\"reinitializations\": %llu, \"losses\": %llu, \"events_outside_sensor\": %llu, \"final_state\": \"%s\", "
         "\"processing_seconds\": %.6f, \"input\": {%s}, "
-        "\"events_per_second\": %.0f}\n",
+        "\"events_per_second\": %.0f, \"initializer\": %s}\n",
         stream.events.size(), static_cast<unsigned long long>(st.events_attributed),
         static_cast<unsigned long long>(st.pose_updates), static_cast<unsigned long long>(st.initializations),
         static_cast<unsigned long long>(st.reinitializations), static_cast<unsigned long long>(st.losses),
         static_cast<unsigned long long>(st.events_outside_sensor), toString(tracker.state()), seconds,
-        input_checks.json().c_str(), seconds > 0 ? stream.events.size() / seconds : 0.0);
+        input_checks.json().c_str(), seconds > 0 ? stream.events.size() / seconds : 0.0,
+        tracker.initializerStats().json().c_str());
     return 0;
   }
   catch (const std::exception& e)

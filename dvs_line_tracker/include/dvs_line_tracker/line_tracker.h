@@ -108,5 +108,6 @@ private:
   int64_t now_ns_ = 0;
   bool have_time_ = false;  ///< now_ns_ holds an event's time
   int64_t max_backwards_ns_ = 0;
+  int64_t max_gap_ns_ = 0;
 };
 }  // namespace dvs_line_tracker

@@ -18,6 +18,7 @@
 #include <cstdint>
 #include <functional>
 #include <limits>
+#include <string>
 #include <vector>
 
 namespace dvs_line_tracker
@@ -37,6 +38,8 @@ struct InitializerStats
   uint64_t accepted = 0;
   uint64_t prior_attempts = 0;        ///< after a loss: the last tracked pose refined on the window's events
   uint64_t prior_accepted = 0;        ///< re-acquisitions from that prior
+  /// One JSON object of the counters (keys as the fields).
+  std::string json() const;
 };
 
 class TrackerInitializer
@@ -70,7 +73,7 @@ private:
   bool tryPrior(const StartTracking& start);
   bool alongBorder(const ImageSegment& segment) const;
   /// A later detection agreeing with `pose` (position / distance and angle bounds) is needed.
-  bool confirmed(const Pose& pose);
+  bool confirmed(const Pose& pose, int extra = 0);
   Pose refineWithWindowEvents(const Pose& initial) const;
   struct Coverage
   {

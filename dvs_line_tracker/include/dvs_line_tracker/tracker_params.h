@@ -49,6 +49,10 @@ struct LineTrackerParams
   /// After a loss the last tracked pose is tried first (refined on the recent events, validated
   /// like a detection) for this long [s]: re-acquisition without a whole polygon in view. 0: off.
   double reacquire_prior_s = 2.0;
+  /// While tracking without a propagator (IMU), an event gap longer than this [s] (a blackout:
+  /// a real sensor's background activity alone fires every few ms) makes the pose stale: the
+  /// track is declared lost and re-acquired (the last pose tried first). 0: off.
+  double max_event_gap_s = 0.1;
   int init_check_interval = 200;     ///< voted events between detection attempts while initialising
   double init_min_check_period_s = 0.005;  ///< and at least this much event time between attempts (bounds the CPU at high rates)
   int init_min_events = 100;         ///< voted events before the first detection attempt
