@@ -205,16 +205,18 @@ SweepScene buildSweepScene(const SweepSceneSpec& spec)
   tp.roll0 = uniform(rng, -20, 20) * kDeg;
   if (spec.partial)
   {
-    // Look beside the map so that its far side (or corner) lies outside the image by 20 % of a
-    // polygon side: the map's centre appears `shift` metres off the image centre.
-    const double shift_x = std::max(0.0, half_w * distance + 0.2 * side - map_half_width);
-    const double shift_y = std::max(0.0, half_h * distance + 0.2 * side - side / 2);
-    const bool corner = spec.seed % 2 == 0;
+    // The partial views: a corner, and so part of two sides, outside the image at the
+    // start (every side stays partly in view). The map is rolled by 15-35 deg and the view
+    // turned so that its outermost corner lies 20 % of a polygon side beyond the right (odd
+    // seeds) or the bottom (even seeds) image border.
+    const double roll = (uniform(rng, 0, 1) < 0.5 ? -1 : 1) * uniform(rng, 15, 35) * kDeg;
+    tp.roll0 = roll;
+    const double reach = map_half_width - side / 2 + side / 2 * (std::cos(roll) + std::abs(std::sin(roll)));
     const Eigen::Vector3d right = Eigen::Vector3d(std::cos(yaw), 0, -std::sin(yaw));
-    tp.look_at -= side_sign * shift_x * right;
-    if (corner)
-      tp.look_at -= shift_y * Eigen::Vector3d::UnitY();
-    tp.roll0 = 0;  // the roll sway is enough to keep it at the border
+    if (spec.seed % 2 == 1)
+      tp.look_at -= (half_w * distance + 0.2 * side - reach) * right;
+    else
+      tp.look_at += (half_h * distance + 0.2 * side - reach) * Eigen::Vector3d::UnitY();
   }
   tp.orbit_phase = uniform(rng, 0, 2 * M_PI);
   switch (spec.motion)

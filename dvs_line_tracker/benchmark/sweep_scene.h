@@ -47,7 +47,7 @@ struct SweepSceneSpec
   SweepMotion motion = SweepMotion::kSlow;
   SweepMap map = SweepMap::kSquare;
   SweepNoise noise = SweepNoise::kRealistic;
-  bool partial = false;   ///< a corner or a side starts outside the image
+  bool partial = false;   ///< a corner, or part of one side, starts outside the image
   uint64_t seed = 1;
 };
 
