@@ -169,6 +169,7 @@ int main(int argc, char** argv)
     if (only >= 0)
     {
       const auto& st = r.init_stats;
+      std::printf("\nlosses %d, last loss: %s\n", r.losses, r.last_loss_reason.c_str());
       std::printf("\ninitialiser: attempts %llu, segments %llu, polygons %llu, cut by border %llu, pose failed %llu, "
                   "coverage failed %llu, ambiguous %llu, unconfirmed %llu, declined %llu, accepted %llu\n\n",
                   (unsigned long long)st.attempts, (unsigned long long)st.segments, (unsigned long long)st.polygons,

@@ -142,6 +142,7 @@ SweepResult runSweepScene(const SweepScene& s, const LineTrackerParams& params)
   r.losses = static_cast<int>(tracker.stats().losses);
   r.events_outside_sensor = tracker.stats().events_outside_sensor;
   r.init_stats = tracker.initializerStats();
+  r.last_loss_reason = tracker.lastLossReason();
   if (r.first_pose_s >= 0 && r.edges_fire_s >= 0)
     r.first_pose_delay_s = r.first_pose_s - r.edges_fire_s;
 

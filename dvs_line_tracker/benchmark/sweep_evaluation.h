@@ -10,6 +10,7 @@
 #include <dvs_driver/event.h>
 
 #include <cstdint>
+#include <string>
 
 namespace dvs_line_tracker
 {
@@ -32,6 +33,7 @@ struct SweepResult
   double tracker_cpu_s = 0, simulator_cpu_s = 0;
   uint64_t events_outside_sensor = 0;
   InitializerStats init_stats;
+  std::string last_loss_reason;
 };
 
 /// The scene's events from the software DVS (seeded by spec.seed); `cpu_s` (optional) receives

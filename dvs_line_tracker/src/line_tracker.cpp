@@ -76,7 +76,7 @@ LineTracker::LineTracker(const dvs_calibration::CameraModel& camera, const LineM
   , edge_model_(camera.width(), camera.height(), edgeModelParams(params_))
   , initializer_(geometry_, params_)
   , updater_(geometry_, params_)
-  , monitor_(params_)
+  , monitor_(params_, static_cast<double>(camera.width()) * camera.height())
 {
   estimator_.resize(map.segments.size(), params_.buffer_size);
   max_backwards_ns_ = static_cast<int64_t>(params_.max_time_backwards_s * 1e9);

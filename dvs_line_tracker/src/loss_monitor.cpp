@@ -1,5 +1,7 @@
 #include <dvs_line_tracker/loss_monitor.h>
 
+#include <algorithm>
+
 namespace dvs_line_tracker
 {
 double meanResidualPx(const EstimatorState& state)
@@ -34,7 +36,13 @@ std::string LossMonitor::check(const EstimatorState& state)
   const double residual = meanResidualPx(state);
   if (residual > params_.max_mean_residual_px)
     return "residuals grew (mean " + std::to_string(residual) + " px)";
-  if (ratio < params_.min_attributed_ratio)
+  // Chance level: the share of the image within the attribution distance of a visible segment.
+  double band_px = 0;
+  for (const auto& seg : state.projected)
+    if (seg.visible)
+      band_px += seg.visible_length * 2.0 * params_.attribution.max_orthogonal_px;
+  const double chance = image_area_px_ > 0 ? std::min(1.0, band_px / image_area_px_) : 1.0;
+  if (ratio < params_.min_attributed_ratio && ratio < 1.5 * chance)
     return "attribution collapsed (" + std::to_string(100.0 * ratio) + " % of events attributed)";
   return "";
 }

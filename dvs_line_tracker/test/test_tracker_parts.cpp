@@ -159,6 +159,30 @@ TEST(LossMonitor, NamesWhyTheTrackIsLost)
   EXPECT_EQ(monitor.check(state), "the pose is not finite");
 }
 
+TEST(LossMonitor, AttributionIsComparedWithChanceOnLargeNoisySensors)
+{
+  // The same square and pose, counted against a 640x480 image: its attribution bands cover a
+  // few per mille of the image, so 8 of 512 events (1.6 %, under min_attributed_ratio) are
+  // still several times chance, while 1 of 512 is not.
+  const TrackingGeometry g = dvs128Geometry();
+  LineTrackerParams params;
+  EstimatorState state;
+  state.resize(g.map.segments.size(), params.buffer_size);
+  EventUpdater updater(g, params);
+  updater.start(state, kFront);
+  LossMonitor large(params, 640.0 * 480.0), small(params, 128.0 * 128.0);
+  for (int i = 0; i < params.quality_check_interval; ++i)
+  {
+    large.countEvent(i < 8);
+    small.countEvent(i < 8);
+  }
+  EXPECT_EQ(large.check(state), "");
+  EXPECT_NE(small.check(state).find("attribution collapsed"), std::string::npos);
+  for (int i = 0; i < params.quality_check_interval; ++i)
+    large.countEvent(i == 0);
+  EXPECT_NE(large.check(state).find("attribution collapsed"), std::string::npos);
+}
+
 namespace
 {
 struct CountingPropagator : StatePropagator

@@ -2,6 +2,10 @@
 // Tracking-quality monitoring: every `quality_check_interval` events while tracking, the
 // estimate is checked (finite, the map in front of the camera, enough visible segments, small
 // residuals, attribution not collapsed); the first failed check is the reason the track is lost.
+// Attribution has collapsed when fewer than `min_attributed_ratio` of the events were attributed
+// and no more than 1.5x what chance gives: background events land in the attribution bands of the
+// visible segments in proportion to the bands' share of the image, so on a large, noisy sensor
+// in slow motion a good track attributes few events, yet more than chance.
 #include <dvs_line_tracker/estimator_state.h>
 #include <dvs_line_tracker/tracker_params.h>
 
@@ -16,7 +20,11 @@ double meanResidualPx(const EstimatorState& state);
 class LossMonitor
 {
 public:
-  explicit LossMonitor(const LineTrackerParams& params) : params_(params) {}
+  /// `image_area_px`: width x height (0: unknown, the attribution check is the fixed ratio only).
+  explicit LossMonitor(const LineTrackerParams& params, double image_area_px = 0)
+    : params_(params), image_area_px_(image_area_px)
+  {
+  }
 
   /// Count one event processed while tracking.
   void countEvent(bool attributed)
@@ -34,6 +42,7 @@ public:
 
 private:
   const LineTrackerParams& params_;
+  double image_area_px_;
   uint64_t events_ = 0, attributed_ = 0;
 };
 }  // namespace dvs_line_tracker
