@@ -202,6 +202,57 @@ bool estimateInitialPose(const std::vector<Eigen::Vector2d>& corners_ideal_px, c
   }
   if (!found)
     return false;
+  const MapPolygon& chosen = map.polygons[best.polygon_index];
+  if (chosen.planar && n >= 4)
+  {
+    std::vector<cv::Point3d> world_cv;
+    for (int i = 0; i < n; ++i)
+    {
+      const Eigen::Vector3d& w = chosen.corners_world[best.corner_assignment[i]];
+      world_cv.emplace_back(w.x(), w.y(), w.z());
+    }
+    std::vector<cv::Mat> rvecs, tvecs;
+    try
+    {
+      cv::solvePnPGeneric(world_cv, image_cv, K, cv::noArray(), rvecs, tvecs, false, cv::SOLVEPNP_IPPE);
+    }
+    catch (const cv::Exception&)
+    {
+      rvecs.clear();
+    }
+    std::vector<Eigen::Vector3d> world;
+    for (int i = 0; i < n; ++i)
+      world.push_back(chosen.corners_world[best.corner_assignment[i]]);
+    for (size_t si = 0; si < rvecs.size() && si < tvecs.size(); ++si)
+    {
+      cv::Mat rv, tv;
+      rvecs[si].convertTo(rv, CV_64F);
+      tvecs[si].convertTo(tv, CV_64F);
+      if (rv.total() != 3 || tv.total() != 3 || !cv::checkRange(rv) || !cv::checkRange(tv))
+        continue;
+      cv::Matx33d Rcv;
+      cv::Rodrigues(rv, Rcv);
+      Pose twin;
+      for (int r = 0; r < 3; ++r)
+      {
+        for (int c = 0; c < 3; ++c)
+          twin.R_camera_world(r, c) = Rcv(r, c);
+        twin.t_camera_world[r] = tv.at<double>(r);
+      }
+      Eigen::Vector3d normal = Eigen::Vector3d::Zero(), centroid = Eigen::Vector3d::Zero();
+      for (int i = 0; i < n; ++i)
+      {
+        normal += chosen.corners_world[i].cross(chosen.corners_world[(i + 1) % n]);
+        centroid += chosen.corners_world[i];
+      }
+      centroid /= n;
+      const bool distinct = positionError(twin, best.pose) > 0.01 * best.pose.p_world_camera().norm() ||
+                            orientationError(twin, best.pose) > 1.0 * M_PI / 180;
+      if (distinct && normal.dot(twin.p_world_camera() - centroid) >= 0 &&
+          cornerReprojectionRms(twin, k, corners_ideal_px, world) <= params.max_reprojection_rms_px)
+        best.alternatives.push_back(twin);
+    }
+  }
   if (params.refine)
   {
     std::vector<Eigen::Vector3d> world;

@@ -13,6 +13,9 @@ namespace
 /// more confirmation.
 constexpr double kInferredOutlineRatio = 0.25;
 
+/// The planar-PnP twin replaces the corners' pose when it explains this much more evidence.
+constexpr double kTwinMargin = 1.1;
+
 /// A second hypothesis explaining this fraction of the best one's evidence makes it ambiguous.
 constexpr double kAmbiguityRatio = 0.85;
 
@@ -204,9 +207,24 @@ bool TrackerInitializer::tryInitialize(const StartTracking& start)
             !estimateInitialPose(polygon.corners, geometry_.map, geometry_.k, params_.init, candidate,
                                  static_cast<int>(pi)))
           continue;
+        // The corners' pose, or its planar-PnP twin when that explains clearly more of the
+        // recent events (the primary fits the corners best; in a weak-perspective view the two
+        // differ only in evidence beyond the corners, e.g. a second polygon's edges).
         if (refine_events_ > 0)
           candidate.pose = refineWithWindowEvents(candidate.pose);
-        const Coverage c = sideCoverage(candidate.pose);
+        Coverage c = sideCoverage(candidate.pose);
+        for (Pose twin : candidate.alternatives)
+        {
+          if (refine_events_ > 0)
+            twin = refineWithWindowEvents(twin);
+          const Coverage ct = sideCoverage(twin);
+          const bool primary_valid = c.min_fraction >= params_.init_min_coverage;
+          if (ct.min_fraction >= params_.init_min_coverage && (!primary_valid || ct.covered_px > kTwinMargin * c.covered_px))
+          {
+            candidate.pose = twin;
+            c = ct;
+          }
+        }
         if (c.min_fraction < params_.init_min_coverage)
           continue;
         if (!have || c.covered_px > best.covered_px)

@@ -39,6 +39,11 @@ struct InitialPose
   double up_score = 0;             ///< cosine between projected map up and image up (-y)
   int polygon_index = -1;          ///< the map polygon used
   std::vector<int> corner_assignment;  ///< image corner k <-> map polygon corner corner_assignment[k]
+  /// The other solution of planar PnP for the same corners, when it also reprojects within the
+  /// limit and sees the polygon from the front: in a weak-perspective view (narrow lens, far
+  /// away) a polygon tilted the other way projects to nearly the same corners. The caller tells
+  /// the two apart with more evidence (the events along every map edge).
+  std::vector<Pose> alternatives;
 };
 
 /// Corners' reprojection RMS (px) of `pose`.
