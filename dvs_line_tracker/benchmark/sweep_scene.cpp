@@ -112,15 +112,10 @@ dvs_screen_sim::ScenePolygon trianglePolygon(const std::string& name, double cx,
 
 dvs_screen_sim::NoiseConfig makeNoise(SweepNoise n)
 {
-  dvs_screen_sim::NoiseConfig c;
-  c.threshold_sigma = 0.03;
-  c.refractory_period = 5e-5;
-  c.latency = 1.5e-5;
+  // The simulator's DVS128-like preset, with the background and jitter levels.
+  dvs_screen_sim::NoiseConfig c = dvs_screen_sim::noisePreset("realistic");
   c.latency_jitter = 1e-4;
-  c.background_rate = 0.2;
-  c.hot_pixel_fraction = 0.001;
-  c.hot_pixel_rate = 10;
-  c.random_initial_reference = true;
+  c.background_rate = n == SweepNoise::kLowContrast ? 0.5 : 0.2;
   if (n == SweepNoise::kHeavy)
   {
     c.threshold_sigma = 0.06;  // 20 % of C = 0.3
@@ -130,8 +125,6 @@ dvs_screen_sim::NoiseConfig makeNoise(SweepNoise n)
     c.hot_pixel_fraction = 0.002;
     c.hot_pixel_rate = 20;
   }
-  else if (n == SweepNoise::kLowContrast)
-    c.background_rate = 0.5;
   return c;
 }
 

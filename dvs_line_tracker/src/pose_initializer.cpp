@@ -36,6 +36,33 @@ struct CornerReprojection
   PinholeK k_;
 };
 
+/// The pose of OpenCV's rotation matrix and translation (world -> camera).
+Pose poseFromCv(const cv::Matx33d& R, const double* t)
+{
+  Pose pose;
+  for (int r = 0; r < 3; ++r)
+  {
+    for (int c = 0; c < 3; ++c)
+      pose.R_camera_world(r, c) = R(r, c);
+    pose.t_camera_world[r] = t[r];
+  }
+  return pose;
+}
+
+/// Map polygons are listed counter-clockwise seen from the side they are viewed from.
+bool viewedFromFront(const MapPolygon& poly, const Pose& pose)
+{
+  const size_t n = poly.corners_world.size();
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero(), centroid = Eigen::Vector3d::Zero();
+  for (size_t i = 0; i < n; ++i)
+  {
+    normal += poly.corners_world[i].cross(poly.corners_world[(i + 1) % n]);
+    centroid += poly.corners_world[i];
+  }
+  centroid /= static_cast<double>(n);
+  return normal.dot(pose.p_world_camera() - centroid) >= 0;
+}
+
 double upScore(const Pose& pose, const PinholeK& k, const std::vector<Eigen::Vector3d>& world,
                const Eigen::Vector3d& up)
 {
@@ -154,13 +181,7 @@ bool estimateInitialPose(const std::vector<Eigen::Vector2d>& corners_ideal_px, c
             continue;
           cv::Matx33d Rcv;
           cv::Rodrigues(rvec, Rcv);
-          Pose candidate;
-          for (int r = 0; r < 3; ++r)
-          {
-            for (int c = 0; c < 3; ++c)
-              candidate.R_camera_world(r, c) = Rcv(r, c);
-            candidate.t_camera_world[r] = tvec[r];
-          }
+          const Pose candidate = poseFromCv(Rcv, tvec.val);
           const double candidate_rms = cornerReprojectionRms(candidate, k, corners_ideal_px, world);
           if (candidate_rms < rms)
           {
@@ -175,18 +196,8 @@ bool estimateInitialPose(const std::vector<Eigen::Vector2d>& corners_ideal_px, c
         // Map polygons are listed counter-clockwise seen from the side they are viewed from:
         // a camera behind the polygon (a mirrored solution) is heavily penalised.
         double score = upScore(pose, k, world, map.up_world);
-        if (poly.planar && n >= 3)
-        {
-          Eigen::Vector3d normal = Eigen::Vector3d::Zero(), centroid = Eigen::Vector3d::Zero();
-          for (int i = 0; i < n; ++i)
-          {
-            normal += poly.corners_world[i].cross(poly.corners_world[(i + 1) % n]);
-            centroid += poly.corners_world[i];
-          }
-          centroid /= n;
-          if (normal.dot(pose.p_world_camera() - centroid) < 0)
-            score -= 10.0;
-        }
+        if (poly.planar && n >= 3 && !viewedFromFront(poly, pose))
+          score -= 10.0;
         const bool better = !found || score > best.up_score + 1e-6 ||
                             (std::abs(score - best.up_score) <= 1e-6 && rms < best.reprojection_rms_px);
         if (better)
@@ -232,23 +243,10 @@ bool estimateInitialPose(const std::vector<Eigen::Vector2d>& corners_ideal_px, c
         continue;
       cv::Matx33d Rcv;
       cv::Rodrigues(rv, Rcv);
-      Pose twin;
-      for (int r = 0; r < 3; ++r)
-      {
-        for (int c = 0; c < 3; ++c)
-          twin.R_camera_world(r, c) = Rcv(r, c);
-        twin.t_camera_world[r] = tv.at<double>(r);
-      }
-      Eigen::Vector3d normal = Eigen::Vector3d::Zero(), centroid = Eigen::Vector3d::Zero();
-      for (int i = 0; i < n; ++i)
-      {
-        normal += chosen.corners_world[i].cross(chosen.corners_world[(i + 1) % n]);
-        centroid += chosen.corners_world[i];
-      }
-      centroid /= n;
+      const Pose twin = poseFromCv(Rcv, tv.ptr<double>());
       const bool distinct = positionError(twin, best.pose) > 0.01 * best.pose.p_world_camera().norm() ||
                             orientationError(twin, best.pose) > 1.0 * M_PI / 180;
-      if (distinct && normal.dot(twin.p_world_camera() - centroid) >= 0 &&
+      if (distinct && viewedFromFront(chosen, twin) &&
           cornerReprojectionRms(twin, k, corners_ideal_px, world) <= params.max_reprojection_rms_px)
         best.alternatives.push_back(twin);
     }
