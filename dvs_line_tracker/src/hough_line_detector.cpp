@@ -203,26 +203,29 @@ std::vector<std::pair<int, int>> HoughLineDetector::candidateBins() const
   return bins;
 }
 
-std::vector<Eigen::Vector2d> HoughLineDetector::windowPoints() const
+namespace
+{
+/// The `count` positions of a ring buffer whose next write goes to `head`, oldest first.
+std::vector<Eigen::Vector2d> ringPoints(const std::vector<Eigen::Vector2f>& ring, int head, int count)
 {
   std::vector<Eigen::Vector2d> points;
-  points.reserve(window_count_);
-  const int capacity = static_cast<int>(window_.size());
-  const int start = window_count_ == capacity ? window_head_ : 0;
-  for (int i = 0; i < window_count_; ++i)
-    points.push_back(window_[(start + i) % capacity].cast<double>());
+  points.reserve(count);
+  const int capacity = static_cast<int>(ring.size());
+  const int start = count == capacity ? head : 0;
+  for (int i = 0; i < count; ++i)
+    points.push_back(ring[(start + i) % capacity].cast<double>());
   return points;
+}
+}  // namespace
+
+std::vector<Eigen::Vector2d> HoughLineDetector::windowPoints() const
+{
+  return ringPoints(window_, window_head_, window_count_);
 }
 
 std::vector<Eigen::Vector2d> HoughLineDetector::evidencePoints() const
 {
-  std::vector<Eigen::Vector2d> points;
-  points.reserve(evidence_count_);
-  const int capacity = static_cast<int>(evidence_.size());
-  const int start = evidence_count_ == capacity ? evidence_head_ : 0;
-  for (int i = 0; i < evidence_count_; ++i)
-    points.push_back(evidence_[(start + i) % capacity].cast<double>());
-  return points;
+  return ringPoints(evidence_, evidence_head_, evidence_count_);
 }
 
 std::vector<ImageSegment> HoughLineDetector::detectSegments() const

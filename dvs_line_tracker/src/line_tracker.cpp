@@ -43,12 +43,10 @@ TrackingGeometry makeGeometry(const dvs_calibration::CameraModel& camera, const 
   g.k.cy = in.cy;
   g.width = camera.width();
   g.height = camera.height();
+  // The undistorted image reaches furthest from the centre somewhere on the sensor's border.
   const Eigen::Vector2d centre((g.width - 1) / 2.0, (g.height - 1) / 2.0);
-  for (int x = 0; x < g.width; ++x)
-    for (int y : {0, g.height - 1})
-      g.ideal_radius_px = std::max(g.ideal_radius_px, (camera.undistortedPixelLut(x, y).cast<double>() - centre).norm());
   for (int y = 0; y < g.height; ++y)
-    for (int x : {0, g.width - 1})
+    for (int x = 0; x < g.width; x += (y == 0 || y == g.height - 1) ? 1 : std::max(1, g.width - 1))
       g.ideal_radius_px = std::max(g.ideal_radius_px, (camera.undistortedPixelLut(x, y).cast<double>() - centre).norm());
   g.min_depth_m = params.min_depth_m;
   g.min_visible_length_px = params.min_visible_length_px;

@@ -106,8 +106,9 @@ bool TrackerInitializer::tryPrior(const StartTracking& start)
     return false;
   }
   ++stats_.prior_attempts;
-  const Pose pose = refineWithWindowEvents(prior_);
-  if (sideCoverage(pose).min_fraction < params_.init_min_coverage)
+  const RecentEvents recent = recentEvents();
+  const Pose pose = refineWithWindowEvents(prior_, recent);
+  if (sideCoverage(pose, recent).min_fraction < params_.init_min_coverage)
     return false;
   prior_ = pose;  // follow the camera while the evidence holds
   if (!confirmed(pose))
@@ -177,6 +178,7 @@ bool TrackerInitializer::tryInitialize(const StartTracking& start)
                  segments.end());
   ++stats_.attempts;
   stats_.segments += segments.size();
+  const RecentEvents recent = recentEvents();
   const double m = params_.init_border_margin_px, w = geometry_.width - 1.0, h = geometry_.height - 1.0;
   for (int sides : side_counts_)
     for (const ImagePolygon& polygon : findPolygons(segments, sides, params_.polygon, 8))
@@ -196,7 +198,7 @@ bool TrackerInitializer::tryInitialize(const StartTracking& start)
       // 8 false initialisations in the sweep instead of 2); the valid one whose projected map
       // explains the most evidence wins, unless another explains nearly as much (ambiguous:
       // wait until the view tells them apart).
-      bool have = false;
+      bool have = false, any_pose = false;
       InitialPose init;
       Coverage best;
       double runner_up_px = 0;
@@ -207,17 +209,18 @@ bool TrackerInitializer::tryInitialize(const StartTracking& start)
             !estimateInitialPose(polygon.corners, geometry_.map, geometry_.k, params_.init, candidate,
                                  static_cast<int>(pi)))
           continue;
+        any_pose = true;
         // The corners' pose, or its planar-PnP twin when that explains clearly more of the
         // recent events (the primary fits the corners best; in a weak-perspective view the two
         // differ only in evidence beyond the corners, e.g. a second polygon's edges).
         if (refine_events_ > 0)
-          candidate.pose = refineWithWindowEvents(candidate.pose);
-        Coverage c = sideCoverage(candidate.pose);
+          candidate.pose = refineWithWindowEvents(candidate.pose, recent);
+        Coverage c = sideCoverage(candidate.pose, recent);
         for (Pose twin : candidate.alternatives)
         {
           if (refine_events_ > 0)
-            twin = refineWithWindowEvents(twin);
-          const Coverage ct = sideCoverage(twin);
+            twin = refineWithWindowEvents(twin, recent);
+          const Coverage ct = sideCoverage(twin, recent);
           const bool primary_valid = c.min_fraction >= params_.init_min_coverage;
           if (ct.min_fraction >= params_.init_min_coverage && (!primary_valid || ct.covered_px > kTwinMargin * c.covered_px))
           {
@@ -240,7 +243,7 @@ bool TrackerInitializer::tryInitialize(const StartTracking& start)
       }
       if (!have)
       {
-        ++stats_.coverage_failed;
+        ++(any_pose ? stats_.coverage_failed : stats_.pose_failed);
         continue;
       }
       if (runner_up_px > kAmbiguityRatio * best.covered_px)
@@ -270,13 +273,21 @@ bool TrackerInitializer::tryInitialize(const StartTracking& start)
   return false;
 }
 
-Pose TrackerInitializer::refineWithWindowEvents(const Pose& initial) const
+TrackerInitializer::RecentEvents TrackerInitializer::recentEvents() const
+{
+  RecentEvents r;
+  r.window = hough_.windowPoints();
+  r.evidence = hough_.evidencePoints();
+  const size_t keep = std::min(r.window.size(), static_cast<size_t>(std::max(refine_events_, 0)));
+  r.refine.assign(r.window.end() - static_cast<std::ptrdiff_t>(keep), r.window.end());
+  return r;
+}
+
+Pose TrackerInitializer::refineWithWindowEvents(const Pose& initial, const RecentEvents& recent) const
 {
   // The latest window events near the projected map segments pull the corner-based pose onto
   // all edge events (point-to-line Gauss-Newton, re-attributing every iteration).
-  std::vector<Eigen::Vector2d> points = hough_.windowPoints();
-  if (static_cast<int>(points.size()) > refine_events_)
-    points.erase(points.begin(), points.end() - refine_events_);
+  const std::vector<Eigen::Vector2d>& points = recent.refine;
   const LineMap& map = geometry_.map;
   const size_t n = map.segments.size();
   Pose pose = initial;
@@ -322,7 +333,7 @@ Pose TrackerInitializer::refineWithWindowEvents(const Pose& initial) const
   return pose;
 }
 
-TrackerInitializer::Coverage TrackerInitializer::sideCoverage(const Pose& pose) const
+TrackerInitializer::Coverage TrackerInitializer::sideCoverage(const Pose& pose, const RecentEvents& recent) const
 {
   Coverage result;
   const LineMap& map = geometry_.map;
@@ -330,7 +341,7 @@ TrackerInitializer::Coverage TrackerInitializer::sideCoverage(const Pose& pose) 
   const int width = geometry_.width, height = geometry_.height;
   // Every visible side must be backed by events along most of its visible length; corners may
   // be outside the image (a partial view) as long as enough sides are in view.
-  const std::vector<Eigen::Vector2d> points = hough_.evidencePoints();
+  const std::vector<Eigen::Vector2d>& points = recent.evidence;
   constexpr double kCell = 3.0;
   double worst = 1.0;
   int visible = 0;
@@ -368,7 +379,6 @@ TrackerInitializer::Coverage TrackerInitializer::sideCoverage(const Pose& pose) 
   if (visible < params_.min_visible_segments)
     return result;
   // A polygon's inside is quiet; a "polygon" cut out of a band of smeared events is not.
-  const std::vector<Eigen::Vector2d> recent = hough_.windowPoints();
   for (const auto& poly : map.polygons)
   {
     std::vector<ProjectedSegment> sides;
@@ -380,7 +390,7 @@ TrackerInitializer::Coverage TrackerInitializer::sideCoverage(const Pose& pose) 
       sides.push_back(ps);
     }
     int on_sides = 0, inside = 0;
-    for (const auto& p : recent)
+    for (const auto& p : recent.window)
     {
       double nearest = 1e300;
       int sign_pos = 0, sign_neg = 0;

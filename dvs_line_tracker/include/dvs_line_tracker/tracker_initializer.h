@@ -74,7 +74,15 @@ private:
   bool alongBorder(const ImageSegment& segment) const;
   /// A later detection agreeing with `pose` (position / distance and angle bounds) is needed.
   bool confirmed(const Pose& pose, int extra = 0);
-  Pose refineWithWindowEvents(const Pose& initial) const;
+  /// The voted positions a detection attempt works on, copied once per attempt.
+  struct RecentEvents
+  {
+    std::vector<Eigen::Vector2d> refine;    ///< the latest init_refine_events (scaled) of the window
+    std::vector<Eigen::Vector2d> window;    ///< the Hough window
+    std::vector<Eigen::Vector2d> evidence;  ///< init_evidence_windows windows
+  };
+  RecentEvents recentEvents() const;
+  Pose refineWithWindowEvents(const Pose& initial, const RecentEvents& recent) const;
   struct Coverage
   {
     double min_fraction = 0;   ///< smallest covered fraction over the visible map segments
@@ -83,7 +91,7 @@ private:
   /// Per visible map segment, the fraction of 3 px cells along it holding a recent voted event
   /// within the attribution distance (min_fraction 0 when fewer than min_visible_segments are
   /// visible or a polygon's inside is busy).
-  Coverage sideCoverage(const Pose& pose) const;
+  Coverage sideCoverage(const Pose& pose, const RecentEvents& recent) const;
 
   const TrackingGeometry& geometry_;
   const LineTrackerParams& params_;
