@@ -107,10 +107,17 @@ void LineTracker::restartAfterTimeJump(int64_t t_ns)
 
 bool LineTracker::processEvent(const dvs_driver::Event& e)
 {
+  bool bridged = false;
   if (have_time_ && e.t_ns < now_ns_ - max_backwards_ns_)
     restartAfterTimeJump(e.t_ns);
-  else if (status_ == TrackerState::kTracking && !propagator_ && max_gap_ns_ > 0 && e.t_ns - now_ns_ > max_gap_ns_)
-    declareLost("no events for " + std::to_string((e.t_ns - now_ns_) * 1e-9) + " s: the pose is stale");
+  else if (status_ == TrackerState::kTracking && max_gap_ns_ > 0 && e.t_ns - now_ns_ > max_gap_ns_)
+  {
+    // An event-free gap: a healthy IMU carries the pose across it; without one the pose is stale.
+    bridged = propagator_ && propagator_->active(now_ns_) && propagator_->active(e.t_ns) &&
+              e.t_ns - now_ns_ <= propagator_->maxBridgeNs();
+    if (!bridged)
+      declareLost("no events for " + std::to_string((e.t_ns - now_ns_) * 1e-9) + " s: the pose is stale");
+  }
   ++stats_.events;
   now_ns_ = e.t_ns;
   have_time_ = true;
@@ -135,6 +142,19 @@ bool LineTracker::processEvent(const dvs_driver::Event& e)
 
   if (propagator_)
     propagator_->propagate(estimator_, e.t_ns);
+  if (bridged)
+  {
+    // The buffers hold the edges where they were before the gap: start them again at the
+    // predicted pose (not a loss, not an initialisation).
+    propagator_->noteGapBridged();
+    ++stats_.gaps_bridged;
+    monitor_.reset();
+    if (updater_.start(estimator_, estimator_.pose) < params_.min_visible_segments)
+    {
+      declareLost("after an event gap bridged by the IMU too few map segments are in view");
+      return false;
+    }
+  }
   const bool updated = updater_.update(estimator_, p, e.polarity, edge_offset);
   monitor_.countEvent(updated);
   if (updated)

@@ -1,4 +1,5 @@
 #include <dvs_line_tracker/tracker_params.h>
+#include <dvs_line_tracker/body_odometry.h>
 
 #include <dvs_calibration/camera_model.h>
 
@@ -41,7 +42,7 @@ dvs_driver::ParamTable trackerParamTable(LineTrackerParams& p, std::string& solv
   t.add("reacquire_prior", p.reacquire_prior_s, "s", 0, 3600,
         "after a loss, the last tracked pose is tried first for this long (0: off)");
   t.add("max_event_gap", p.max_event_gap_s, "s", 0, 3600,
-        "while tracking without IMU, a longer gap between events makes the pose stale: lost, re-acquired (0: off)");
+        "a longer gap between events makes the pose stale (lost, re-acquired) or, with a healthy IMU, is bridged by it (0: off)");
   t.add("init_check_interval", p.init_check_interval, "events", 1, 10000000, "voted events between detection attempts");
   t.add("init_min_check_period", p.init_min_check_period_s, "s", 0, 10, "and at least this much event time between attempts");
   t.add("init_min_events", p.init_min_events, "events", 0, 10000000, "voted events before the first attempt");
@@ -88,6 +89,33 @@ dvs_driver::ParamTable trackerParamTable(LineTrackerParams& p, std::string& solv
   positive("min_depth", p.min_depth_m, "m", kInf, "map points closer (or behind): lost");
   t.add("max_time_backwards", p.max_time_backwards_s, "s", 0, kInf,
         "event time going back by more than this (a replayed bag) restarts the tracker");
+  // IMU fusion (when an IMU stream is given).
+  t.add("imu_q_camera_imu", p.imu.q_camera_imu, {}, "R_camera_imu as a quaternion 'x y z w' (IMU axes -> camera axes)");
+  t.add("imu_p_camera_imu", p.imu.p_camera_imu, {}, "the IMU's origin in the camera frame 'x y z' [m]");
+  t.add("imu_gravity_world", p.imu.gravity_world, {},
+        "gravity in the map frame 'x y z' [m/s^2] when known (square on a wall, world y up: '0 -9.81 0'); empty: estimated");
+  t.add("imu_time_offset", p.imu.time_offset_s, "s", -10, 10, "event time = IMU time + this");
+  t.add("imu_gyro_noise_density", p.imu.gyro_noise_density, "rad/s/sqrt(Hz)", 0, 1, "gyroscope white noise").min_exclusive = true;
+  t.add("imu_gyro_random_walk", p.imu.gyro_random_walk, "rad/s^2/sqrt(Hz)", 0, 1, "gyroscope bias random walk").min_exclusive = true;
+  t.add("imu_accel_noise_density", p.imu.accel_noise_density, "m/s^2/sqrt(Hz)", 0, 10, "accelerometer white noise").min_exclusive = true;
+  t.add("imu_accel_random_walk", p.imu.accel_random_walk, "m/s^3/sqrt(Hz)", 0, 10, "accelerometer bias random walk").min_exclusive = true;
+  t.add("imu_initial_gyro_bias_sigma", p.imu.initial_gyro_bias_sigma, "rad/s", 0, 1, "prior 1-sigma of the gyroscope bias").min_exclusive = true;
+  t.add("imu_initial_accel_bias_sigma", p.imu.initial_accel_bias_sigma, "m/s^2", 0, 10, "prior 1-sigma of the accelerometer bias").min_exclusive = true;
+  t.add("imu_initial_velocity_sigma", p.imu.initial_velocity_sigma, "m/s", 0, 100, "velocity prior when tracking starts").min_exclusive = true;
+  t.add("imu_initial_gravity_sigma", p.imu.initial_gravity_sigma, "m/s^2", 0, 10, "prior of an estimated gravity, per axis").min_exclusive = true;
+  t.add("imu_update_period", p.imu.update_period_s, "s", 1e-5, 1, "the vision pose corrects the filter this often");
+  t.add("imu_vision_covariance_scale", p.imu.vision_covariance_scale, "", 0, 1e9,
+        "the vision's covariance is this x its Gauss-Newton estimate (overlapping buffers, errors not white)").min_exclusive = true;
+  t.add("imu_vision_error_scale", p.imu.vision_error_scale, "", 0, 1e9,
+        "the reported pose covariance adds this x the Gauss-Newton estimate: the vision's slowly varying error, which the filter cannot average away");
+  t.add("imu_max_latency", p.imu.max_latency_s, "s", 0, 10, "newest IMU sample older than this at an event: late or missing, vision alone").min_exclusive = true;
+  t.add("imu_max_gyro", p.imu.max_gyro_rad_s, "rad/s", 0, 1e4, "a larger rate is absurd (deg/s given as rad/s?)").min_exclusive = true;
+  t.add("imu_max_accel", p.imu.max_accel_m_s2, "m/s^2", 0, 1e5, "a larger specific force is absurd").min_exclusive = true;
+  t.add("imu_max_bridge", p.imu.max_bridge_s, "s", 0, 60, "event-free gaps up to this long are bridged by the IMU alone");
+  t.addRule([&p]() -> std::string {
+    ImuExtrinsics x;
+    return parseImuExtrinsics(p.imu, x);
+  });
   // Rules across parameters.
   t.addRule([&p]() -> std::string {
     return p.polygon.min_turn_angle_deg < p.polygon.max_turn_angle_deg
@@ -116,8 +144,18 @@ dvs_driver::ParamTable nodeParamTable(TrackerNodeSettings& n)
   t.add("publish_per_event_poses", n.publish_per_event_poses, "publish `~pose` per pose update (when subscribed)");
   t.add("image_rate", n.image_rate_hz, "Hz", 0, 1000, "`~image` rate limit").min_exclusive = true;
   t.add("marker_rate", n.marker_rate_hz, "Hz", 0, 1000, "`~markers` rate limit").min_exclusive = true;
+  t.add("use_imu", n.use_imu, "subscribe to `dvs/imu` (sensor_msgs/Imu) and fuse it (`imu_*` parameters)");
+  t.add("body_frame", n.body_frame, {}, "child frame of `~odometry` (empty: camera_frame)");
+  t.add("q_body_camera", n.q_body_camera, {}, "R_body_camera as a quaternion 'x y z w' (camera axes -> body axes)");
+  t.add("p_body_camera", n.p_body_camera, {}, "the camera's origin in the body frame 'x y z' [m]");
+  t.add("output_rate", n.output_rate_hz, "Hz", 0, 10000,
+        "`~odometry` at this fixed rate, predicted to the publish time (0: once per event packet)");
   t.addRule([&n]() -> std::string {
     return n.world_frame.empty() || n.camera_frame.empty() ? "world_frame and camera_frame must not be empty" : "";
+  });
+  t.addRule([&n]() -> std::string {
+    Pose T_camera_body;
+    return parseBodyCameraExtrinsic(n.q_body_camera, n.p_body_camera, T_camera_body);
   });
   return t;
 }

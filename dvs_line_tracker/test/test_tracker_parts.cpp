@@ -197,6 +197,8 @@ struct CountingPropagator : StatePropagator
     ++propagated;
   }
   void restart(const EstimatorState&, int64_t) override { ++restarted; }
+  bool active(int64_t) const override { return true; }
+  int64_t maxBridgeNs() const override { return 0; }
 };
 }  // namespace
 

@@ -10,7 +10,9 @@
 #include <dvs_driver/event_validation.h>
 #include <dvs_driver/event_bag_io.h>
 #include <dvs_driver/event_text_io.h>
+#include <dvs_driver/imu_text_io.h>
 #include <dvs_driver/progress_meter.h>
+#include <dvs_line_tracker/imu_propagator.h>
 #include <dvs_line_tracker/line_tracker.h>
 #include <dvs_line_tracker/tracker_params.h>
 
@@ -21,6 +23,7 @@
 #include <cstdio>
 #include <iostream>
 #include <map>
+#include <memory>
 #include <string>
 #include <sys/stat.h>
 
@@ -36,6 +39,11 @@ void usage()
                "                     (--calib calib.txt | --camera-info FILE.yaml | --preset dvs128)\n"
                "                     [--width 128 --height 128] [--map map.yaml] --out trajectory.txt\n"
                "                     [--params params.yaml] [--solver incremental|full] [--buffer-size N]\n"
+               "                     [--imu imu.txt | --imu recording] [--odometry odometry.txt]\n"
+               "--imu fuses an IMU (imu.txt: 't ax ay az gx gy gz', s, m/s^2, rad/s; 'recording': the samples the\n"
+               "events' recording carries: AEDAT 2.0 DAVIS, AEDAT 4.0 IMUS, sensor_msgs/Imu beside the bag's events);\n"
+               "--odometry writes the filter's estimate per IMU sample: 't tx ty tz qx qy qz qw vx vy vz' and the\n"
+               "1-sigma of position (3) and orientation (3) (m, rad).\n"
                "Writes TUM lines 't tx ty tz qx qy qz qw' (T_world_camera) per pose update and prints a JSON\n"
                "summary. Without --map the thesis's 0.9 m square (plane z=0, up +y) is tracked.\n"
                "track_offline --list-params prints every parameter (name, default, unit, range, meaning).\n";
@@ -74,6 +82,40 @@ uint64_t inputBytes(const Args& args)
 {
   struct stat st;
   return ::stat(inputName(args).c_str(), &st) == 0 ? static_cast<uint64_t>(st.st_size) : 0;
+}
+
+/// One line of --odometry.
+void appendOdometryLine(const ImuOdometry& o, std::string& out)
+{
+  const Eigen::Vector3d p = o.T_world_camera.p_world_camera();
+  const Eigen::Quaterniond q = o.T_world_camera.q_world_camera();
+  const auto& c = o.pose_covariance;
+  char line[320];
+  const int n = std::snprintf(
+      line, sizeof(line), "%s %.6f %.6f %.6f %.7f %.7f %.7f %.7f %.5f %.5f %.5f %.3e %.3e %.3e %.3e %.3e %.3e\n",
+      formatSeconds(o.t_ns).c_str(), p.x(), p.y(), p.z(), q.x(), q.y(), q.z(), q.w(), o.velocity_world.x(),
+      o.velocity_world.y(), o.velocity_world.z(), std::sqrt(c(3, 3)), std::sqrt(c(4, 4)), std::sqrt(c(5, 5)),
+      std::sqrt(c(0, 0)), std::sqrt(c(1, 1)), std::sqrt(c(2, 2)));
+  out.append(line, static_cast<size_t>(std::min<int>(n, sizeof(line) - 1)));
+}
+
+/// The IMU fusion's counters and state for the JSON summary.
+std::string imuJson(const ImuPropagator& p)
+{
+  const auto& s = p.stats();
+  const auto& f = p.filter();
+  char buf[640];
+  std::snprintf(buf, sizeof(buf),
+                "{\"status\": \"%s\", \"message\": \"%s\", \"samples\": %llu, \"samples_absurd\": %llu, "
+                "\"samples_out_of_order\": %llu, \"updates\": %llu, \"updates_rejected\": %llu, \"fallbacks\": %llu, "
+                "\"gyro_bias\": [%.5f, %.5f, %.5f], \"accel_bias\": [%.4f, %.4f, %.4f], \"gravity\": [%.4f, %.4f, %.4f]}",
+                toString(p.status()), p.statusMessage().c_str(), static_cast<unsigned long long>(s.samples),
+                static_cast<unsigned long long>(s.samples_absurd), static_cast<unsigned long long>(s.samples_out_of_order),
+                static_cast<unsigned long long>(s.updates), static_cast<unsigned long long>(s.updates_rejected),
+                static_cast<unsigned long long>(s.fallbacks), f.gyroBias().x(), f.gyroBias().y(), f.gyroBias().z(),
+                f.accelBias().x(), f.accelBias().y(), f.accelBias().z(), f.gravity().x(), f.gravity().y(),
+                f.gravity().z());
+  return buf;
 }
 
 /// A whole number in [1, max] for option `name`, or an error naming the option and the value.
@@ -118,7 +160,7 @@ int main(int argc, char** argv)
     args.kv[a.substr(2)] = argv[++i];
   }
   static const char* known[] = {"events", "bag", "topic", "aedat", "calib", "camera-info", "preset", "width",
-                                "height", "map", "out", "params", "solver", "buffer-size"};
+                                "height", "map", "out", "params", "solver", "buffer-size", "imu", "odometry"};
   for (const auto& [k, v] : args.kv)
     if (std::find(std::begin(known), std::end(known), k) == std::end(known))
     {
@@ -138,6 +180,7 @@ int main(int argc, char** argv)
     // Inputs (parsing is not part of the processing time).
     dvs_driver::EventStream stream;
     dvs_driver::EventChecks input_checks;
+    dvs_driver::ImuVector recording_imu;
     {
       // Any recording, its format detected from its bytes (--bag and --aedat are the same option).
       dvs_driver::ProgressMeter meter("track_offline: reading " + inputName(args), 0);
@@ -154,6 +197,7 @@ int main(int argc, char** argv)
       for (const std::string& w : recording.warnings)
         std::cerr << "track_offline: warning: " << inputName(args) << ": " << w << "\n";
       stream = std::move(recording.contents.stream);
+      recording_imu = std::move(recording.contents.imu);
       input_checks = recording.contents.checks;  // what the reader repaired or skipped
     }
 
@@ -227,7 +271,38 @@ int main(int argc, char** argv)
     // write, the flush and the close are checked; the file appears complete or not at all).
     dvs_driver::CheckedFileWriter out(args.get("out"));
 
+    // The IMU: a text file, or what the recording carries.
+    dvs_driver::ImuVector imu;
+    if (args.has("imu"))
+    {
+      if (args.get("imu") == "recording")
+      {
+        if (recording_imu.empty())
+          throw std::runtime_error("--imu recording: " + inputName(args) + " carries no IMU samples");
+        imu = std::move(recording_imu);
+      }
+      else
+        imu = dvs_driver::readImuText(args.get("imu"));
+      std::cerr << "track_offline: IMU: " << imu.size() << " samples"
+                << (imu.empty() ? std::string()
+                                : ", " + formatSeconds(imu.front().t_ns) + " to " + formatSeconds(imu.back().t_ns) + " s")
+                << "\n";
+    }
+    else if (args.has("odometry"))
+      throw std::runtime_error("--odometry needs --imu (the odometry is the IMU filter's estimate)");
+    std::unique_ptr<dvs_driver::CheckedFileWriter> odometry_out;
+    if (args.has("odometry"))
+      odometry_out = std::make_unique<dvs_driver::CheckedFileWriter>(args.get("odometry"));
+
     LineTracker tracker(camera, map, params);
+    std::shared_ptr<ImuPropagator> propagator;
+    if (args.has("imu"))
+    {
+      propagator = std::make_shared<ImuPropagator>(params.imu);
+      tracker.setPropagator(propagator);
+    }
+    size_t next_imu = 0;
+    std::string odometry_text;
     struct Stamped
     {
       int64_t t_ns;
@@ -242,6 +317,16 @@ int main(int argc, char** argv)
     for (size_t i = 0; i < stream.events.size(); ++i)
     {
       const auto& e = stream.events[i];
+      // Every IMU sample up to the event first (the sample in force at its time).
+      while (propagator && next_imu < imu.size() &&
+             imu[next_imu].t_ns + static_cast<int64_t>(params.imu.time_offset_s * 1e9) <= e.t_ns)
+      {
+        const int64_t t_sample = imu[next_imu].t_ns + static_cast<int64_t>(params.imu.time_offset_s * 1e9);
+        propagator->addSample(imu[next_imu++]);
+        ImuOdometry o;
+        if (odometry_out && propagator->odometry(t_sample, o))
+          appendOdometryLine(o, odometry_text);
+      }
       if (tracker.processEvent(e))
         poses.push_back({e.t_ns, tracker.pose()});
       if ((i & 0xFFF) == 0xFFF)
@@ -261,6 +346,14 @@ int main(int argc, char** argv)
       out.write(line, static_cast<size_t>(std::min<int>(n, sizeof(line) - 1)));
     }
     out.commit();
+    if (odometry_out)
+    {
+      odometry_out->write(std::string("# t tx ty tz qx qy qz qw vx vy vz sigma_px sigma_py sigma_pz sigma_rx sigma_ry "
+                                      "sigma_rz (T_world_camera, camera-centre velocity in the world; rotation sigmas "
+                                      "in camera axes), dvs_line_tracker IMU filter\n"));
+      odometry_out->write(odometry_text);
+      odometry_out->commit();
+    }
 
     const auto& st = tracker.stats();
     if (st.initializations == 0)
@@ -279,13 +372,14 @@ int main(int argc, char** argv)
         "{\"events_read\": %zu, \"events_attributed\": %llu, \"pose_updates\": %llu, \"initializations\": %llu, "
         "\"reinitializations\": %llu, \"losses\": %llu, \"events_outside_sensor\": %llu, \"final_state\": \"%s\", "
         "\"processing_seconds\": %.6f, \"input\": {%s}, "
-        "\"events_per_second\": %.0f, \"initializer\": %s}\n",
+        "\"events_per_second\": %.0f, \"initializer\": %s, \"gaps_bridged\": %llu, \"imu\": %s}\n",
         stream.events.size(), static_cast<unsigned long long>(st.events_attributed),
         static_cast<unsigned long long>(st.pose_updates), static_cast<unsigned long long>(st.initializations),
         static_cast<unsigned long long>(st.reinitializations), static_cast<unsigned long long>(st.losses),
         static_cast<unsigned long long>(st.events_outside_sensor), toString(tracker.state()), seconds,
         input_checks.json().c_str(), seconds > 0 ? stream.events.size() / seconds : 0.0,
-        tracker.initializerStats().json().c_str());
+        tracker.initializerStats().json().c_str(), static_cast<unsigned long long>(st.gaps_bridged),
+        propagator ? imuJson(*propagator).c_str() : "null");
     return 0;
   }
   catch (const std::exception& e)

@@ -47,4 +47,10 @@ struct EstimatorState
   void clear();
   int visibleSegments() const;
 };
+
+/// The Gauss-Newton covariance of the pose the buffered events give (residual variance x inverse
+/// information of the active segments' normal equations), over (rotation error in camera axes,
+/// right-multiplied; camera position in the world). Its error is not white (the buffers overlap
+/// from event to event): the IMU filter scales it (imu_fusion_params.h).
+Matrix6d visionPoseCovariance(const EstimatorState& state);
 }  // namespace dvs_line_tracker

@@ -40,6 +40,7 @@ struct TrackerStats
   uint64_t reinitializations = 0;   ///< successful initialisations after a loss
   uint64_t losses = 0;
   uint64_t time_jumps = 0;          ///< restarts because event time went backwards
+  uint64_t gaps_bridged = 0;        ///< event-free gaps longer than max_event_gap carried by the propagator (IMU)
 };
 
 class LineTracker

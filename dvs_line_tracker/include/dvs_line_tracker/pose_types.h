@@ -11,4 +11,12 @@ using dvs_calibration::positionError;
 using dvs_calibration::Vector6d;
 using Matrix6d = Eigen::Matrix<double, 6, 6>;
 using Matrix26d = Eigen::Matrix<double, 2, 6>;
+
+/// The cross-product matrix: skew(w) v = w x v.
+inline Eigen::Matrix3d skew(const Eigen::Vector3d& w)
+{
+  Eigen::Matrix3d s;
+  s << 0, -w.z(), w.y(), w.z(), 0, -w.x(), -w.y(), w.x(), 0;
+  return s;
+}
 }  // namespace dvs_line_tracker

@@ -16,5 +16,12 @@ public:
   /// tracking; `restart` is called when tracking (re)starts from `state`.
   virtual void propagate(EstimatorState& state, int64_t t_ns) = 0;
   virtual void restart(const EstimatorState& state, int64_t t_ns) = 0;
+  /// Whether it carries the pose at `t_ns` (a healthy IMU). While not, the tracker behaves as
+  /// without a propagator (an event gap makes the pose stale).
+  virtual bool active(int64_t t_ns) const = 0;
+  /// The longest event-free gap it may bridge [ns].
+  virtual int64_t maxBridgeNs() const = 0;
+  /// The tracker bridged a gap with it (statistics).
+  virtual void noteGapBridged() {}
 };
 }  // namespace dvs_line_tracker

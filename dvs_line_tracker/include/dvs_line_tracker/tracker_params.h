@@ -4,6 +4,7 @@
 // and the README's parameter table all come from (dvs_driver/param_table.h).
 #include <dvs_driver/param_table.h>
 #include <dvs_line_tracker/hough_line_detector.h>
+#include <dvs_line_tracker/imu_fusion_params.h>
 #include <dvs_line_tracker/polygon_search.h>
 #include <dvs_line_tracker/pose_estimator.h>
 #include <dvs_line_tracker/pose_initializer.h>
@@ -20,6 +21,7 @@ struct LineTrackerParams
   PoseInitParams init;
   AttributionParams attribution;
   PoseEstimatorParams estimator;
+  ImuFusionParams imu;  ///< used when an IMU stream is given (imu_propagator.h)
   /// Edge position inside the firing pixel (edge_run_model.h): each attributed event is moved
   /// from its pixel centre to where the pixel's log level, integrated from its events, puts the
   /// edge, towards the segment's bright side (learned online from event polarities and the
@@ -49,9 +51,10 @@ struct LineTrackerParams
   /// After a loss the last tracked pose is tried first (refined on the recent events, validated
   /// like a detection) for this long [s]: re-acquisition without a whole polygon in view. 0: off.
   double reacquire_prior_s = 2.0;
-  /// While tracking without a propagator (IMU), an event gap longer than this [s] (a blackout:
-  /// a real sensor's background activity alone fires every few ms) makes the pose stale: the
-  /// track is declared lost and re-acquired (the last pose tried first). 0: off.
+  /// While tracking, an event gap longer than this [s] (a blackout: a real sensor's background
+  /// activity alone fires every few ms) makes the pose stale: the track is declared lost and
+  /// re-acquired (the last pose tried first); with a healthy IMU (imu_propagator.h) the IMU
+  /// carries the pose across it instead (up to imu_max_bridge). 0: off.
   double max_event_gap_s = 0.1;
   int init_check_interval = 200;     ///< voted events between detection attempts while initialising
   double init_min_check_period_s = 0.005;  ///< and at least this much event time between attempts (bounds the CPU at high rates)
@@ -92,6 +95,11 @@ struct TrackerNodeSettings
   std::string world_frame = "world", camera_frame = "dvs";
   bool publish_per_event_poses = true;
   double image_rate_hz = 30.0, marker_rate_hz = 10.0;
+  bool use_imu = true;             ///< subscribe to dvs/imu and fuse it (imu_* parameters)
+  std::string body_frame;          ///< child frame of ~odometry ("" = camera_frame)
+  std::string q_body_camera = "0 0 0 1";  ///< R_body_camera "x y z w" (camera axes -> body axes)
+  std::string p_body_camera = "0 0 0";    ///< the camera's origin in the body frame "x y z" [m]
+  double output_rate_hz = 0.0;     ///< ~odometry at this fixed rate, predicted to the publish time (0: once per event packet)
 };
 /// The node's settings as a table (the ROS node reads this merged with trackerParamTable).
 dvs_driver::ParamTable nodeParamTable(TrackerNodeSettings& settings);

@@ -4,7 +4,9 @@
 
 #include <cv_bridge/cv_bridge.h>
 #include <dvs_driver/event_bag_io.h>
+#include <dvs_driver/imu_msg.h>
 #include <dvs_driver/param_table_ros.h>
+#include <nav_msgs/Odometry.h>
 #include <nav_msgs/Path.h>
 #include <geometry_msgs/PoseStamped.h>
 #include <geometry_msgs/TransformStamped.h>
@@ -13,6 +15,7 @@
 #include <visualization_msgs/MarkerArray.h>
 
 #include <stdexcept>
+#include <vector>
 
 namespace dvs_line_tracker
 {
@@ -47,7 +50,11 @@ TrackerRos::TrackerRos(ros::NodeHandle nh, ros::NodeHandle pnh)
   applySolverName(solver, params_);
   map_ = settings_.map_file.empty() ? defaultSquareMap() : loadLineMap(settings_.map_file);  // throws naming the file
 
+  parseBodyCameraExtrinsic(settings_.q_body_camera, settings_.p_body_camera, T_camera_body_);  // validated above
+  if (settings_.body_frame.empty())
+    settings_.body_frame = settings_.camera_frame;
   pose_pub_ = pnh_.advertise<geometry_msgs::PoseStamped>("pose", 10000);
+  odometry_pub_ = pnh_.advertise<nav_msgs::Odometry>("odometry", 1000);
   poses_pub_ = pnh_.advertise<nav_msgs::Path>("poses", 1000);
   markers_pub_ = pnh_.advertise<visualization_msgs::MarkerArray>("markers", 1, true);
   state_pub_ = pnh_.advertise<std_msgs::String>("state", 10, true);
@@ -68,20 +75,50 @@ TrackerRos::TrackerRos(ros::NodeHandle nh, ros::NodeHandle pnh)
   else
     camera_info_sub_ = nh_.subscribe("dvs/camera_info", 1, &TrackerRos::onCameraInfo, this);
   events_sub_ = nh_.subscribe("dvs/events", 1000, &TrackerRos::onEvents, this, ros::TransportHints().tcpNoDelay());
+  if (settings_.use_imu)
+  {
+    imu_sub_ = nh_.subscribe("dvs/imu", 1000, &TrackerRos::onImu, this, ros::TransportHints().tcpNoDelay());
+    // Packets waiting for IMU samples when the events stop are tracked after 1 s.
+    pending_timer_ = nh_.createWallTimer(ros::WallDuration(0.25),
+                                         [this](const ros::WallTimerEvent&) { processPending(); });
+  }
+  if (settings_.output_rate_hz > 0)
+  {
+    // Its own queue and thread: a steady stream, not queued behind the event packets' callbacks.
+    ros::TimerOptions options(ros::Duration(1.0 / settings_.output_rate_hz),
+                              boost::bind(&TrackerRos::onOutputTimer, this, boost::placeholders::_1), &output_queue_);
+    output_timer_ = nh_.createTimer(options);
+    output_spinner_ = std::make_unique<ros::AsyncSpinner>(1, &output_queue_);
+    output_spinner_->start();
+  }
   std_msgs::String state;
   state.data = toString(TrackerState::kInitializing);
   state_pub_.publish(state);
 }
 
+TrackerRos::~TrackerRos()
+{
+  // The output thread first: its timer callback uses everything else.
+  output_timer_.stop();
+  if (output_spinner_)
+    output_spinner_->stop();
+}
+
 void TrackerRos::startTracker(const dvs_calibration::CameraModel& camera)
 {
   tracker_ = std::make_unique<LineTracker>(camera, map_, params_);
+  if (settings_.use_imu)
+  {
+    imu_ = std::make_shared<ImuPropagator>(params_.imu);
+    tracker_->setPropagator(imu_);
+  }
   ROS_INFO("dvs_line_tracker: tracking %zu segments (%zu polygons) with a %dx%d camera", map_.segments.size(),
            map_.polygons.size(), camera.width(), camera.height());
 }
 
 void TrackerRos::onCameraInfo(const sensor_msgs::CameraInfoConstPtr& msg)
 {
+  std::lock_guard<std::recursive_mutex> lock(mutex_);
   if (tracker_)
     return;
   try
@@ -95,13 +132,121 @@ void TrackerRos::onCameraInfo(const sensor_msgs::CameraInfoConstPtr& msg)
   }
 }
 
+void TrackerRos::onImu(const sensor_msgs::ImuConstPtr& msg)
+{
+  {
+    std::lock_guard<std::recursive_mutex> lock(mutex_);
+    ++imu_messages_;
+    if (!imu_)
+      return;
+    imu_->addSample(dvs_driver::fromImuMessage(*msg));
+  }
+  processPending();
+}
+
+void TrackerRos::onOutputTimer(const ros::TimerEvent&)
+{
+  std::lock_guard<std::recursive_mutex> lock(mutex_);
+  if (!tracker_ || tracker_->state() != TrackerState::kTracking || last_event_ns_ == INT64_MIN)
+    return;
+  // Predicted to the publish time; the clock must be the events' (a replay needs use_sim_time):
+  // never extrapolated beyond imu_max_latency past the last event.
+  const int64_t now = static_cast<int64_t>(ros::Time::now().toNSec());
+  const int64_t horizon = static_cast<int64_t>(params_.imu.max_latency_s * 1e9);
+  int64_t t = now;
+  if (now < last_event_ns_ || now - last_event_ns_ > horizon)
+  {
+    if (std::llabs(now - last_event_ns_) > 1000000000LL)
+      ROS_WARN_THROTTLE(10.0, "dvs_line_tracker: ~output_rate: the clock is %.1f s away from the events' time stamps "
+                              "(replaying without use_sim_time?): odometry stamped with the last event's time",
+                        (now - last_event_ns_) * 1e-9);
+    t = now < last_event_ns_ ? last_event_ns_ : last_event_ns_ + horizon;
+  }
+  publishOdometry(t);
+}
+
+void TrackerRos::publishOdometry(int64_t t_ns)
+{
+  if (odometry_pub_.getNumSubscribers() == 0 || !tracker_ || tracker_->state() != TrackerState::kTracking)
+    return;
+  ImuOdometry o;
+  const BodyOdometry b =
+      imu_ && imu_->odometry(t_ns, o)
+          ? toBodyOdometry(o, T_camera_body_)
+          : visionBodyOdometry(last_event_ns_, tracker_->pose(),
+                               visionPoseCovariance(tracker_->estimatorState()) * kVisionOnlyCovarianceScale,
+                               T_camera_body_);
+  if (b.t_ns < last_odometry_ns_)
+    return;  // switching between the IMU's prediction and the vision's pose: stamps never go back
+  last_odometry_ns_ = b.t_ns;
+  nav_msgs::OdometryPtr m = boost::make_shared<nav_msgs::Odometry>();
+  m->header.stamp.fromNSec(static_cast<uint64_t>(b.t_ns));
+  m->header.frame_id = settings_.world_frame;
+  m->child_frame_id = settings_.body_frame;
+  m->pose.pose = toPoseMsg(b.T_world_body);
+  for (int r = 0; r < 6; ++r)
+    for (int c = 0; c < 6; ++c)
+    {
+      m->pose.covariance[r * 6 + c] = b.pose_covariance(r, c);
+      m->twist.covariance[r * 6 + c] = b.twist_covariance(r, c);
+    }
+  m->twist.twist.linear.x = b.linear_velocity_body.x();
+  m->twist.twist.linear.y = b.linear_velocity_body.y();
+  m->twist.twist.linear.z = b.linear_velocity_body.z();
+  m->twist.twist.angular.x = b.angular_velocity_body.x();
+  m->twist.twist.angular.y = b.angular_velocity_body.y();
+  m->twist.twist.angular.z = b.angular_velocity_body.z();
+  odometry_pub_.publish(m);
+}
+
 void TrackerRos::onEvents(const dvs_msgs::EventArrayConstPtr& msg)
 {
-  if (!tracker_)
   {
-    ROS_WARN_THROTTLE(5.0, "dvs_line_tracker: no camera calibration yet (waiting for dvs/camera_info): events dropped");
-    return;
+    std::lock_guard<std::recursive_mutex> lock(mutex_);
+    if (!tracker_)
+    {
+      ROS_WARN_THROTTLE(5.0, "dvs_line_tracker: no camera calibration yet (waiting for dvs/camera_info): events dropped");
+      return;
+    }
+    pending_.push_back({msg, ros::WallTime::now()});
   }
+  processPending();
+}
+
+void TrackerRos::processPending()
+{
+  // Events and IMU samples come on two topics, and either may arrive first: while the IMU is
+  // used, a packet waits until the IMU has reached its last event, so that the IMU carries the
+  // pose to each event with the samples of its time. It waits in data time (the packets behind
+  // it reach imu_max_latency past the newest IMU sample: the IMU is late), not wall time (a
+  // tracker behind real time would find every sample late), and at most 1 s of wall time (the
+  // event stream stopped). The lock is taken per packet, so that ~output_rate's thread gets in
+  // between packets when the tracker catches up.
+  const int64_t max_latency_ns = static_cast<int64_t>(params_.imu.max_latency_s * 1e9);
+  const auto endOf = [](const dvs_msgs::EventArray& m) {
+    return m.events.empty() ? INT64_MIN : dvs_driver::rosTimeToNs(m.events.back().ts);
+  };
+  for (;;)
+  {
+    std::lock_guard<std::recursive_mutex> lock(mutex_);
+    if (pending_.empty())
+      return;
+    const auto& p = pending_.front();
+    const bool imu_used = imu_ && (imu_->status() == ImuStatus::kOk || imu_->status() == ImuStatus::kChecking);
+    const int64_t end_ns = endOf(*p.msg);
+    const int64_t newest_event_ns = std::max(end_ns, endOf(*pending_.back().msg));  // an empty last packet: no time
+    if (imu_used && end_ns != INT64_MIN && imu_->newestSampleNs() < end_ns &&
+        newest_event_ns - imu_->newestSampleNs() <= max_latency_ns &&
+        ros::WallTime::now() - p.arrival < ros::WallDuration(1.0))
+      return;
+    const dvs_msgs::EventArrayConstPtr msg = p.msg;
+    pending_.pop_front();
+    processPacket(msg);
+  }
+}
+
+void TrackerRos::processPacket(const dvs_msgs::EventArrayConstPtr& msg)
+{
   const bool per_event = settings_.publish_per_event_poses && pose_pub_.getNumSubscribers() > 0;
   const bool batched = poses_pub_.getNumSubscribers() > 0;
   nav_msgs::PathPtr poses;
@@ -143,7 +288,11 @@ void TrackerRos::onEvents(const dvs_msgs::EventArrayConstPtr& msg)
     }
   }
   events_since_diag_ += msg->events.size();
+  if (!msg->events.empty())
+    last_event_ns_ = dvs_driver::rosTimeToNs(msg->events.back().ts);
   reportInputProblems();
+  if (settings_.output_rate_hz <= 0 && any_update)
+    publishOdometry(last_update_ns);
   if (batched && !poses->poses.empty())
   {
     poses->header.stamp = poses->poses.back().header.stamp;
@@ -170,6 +319,16 @@ void TrackerRos::reportInputProblems()
   {
     ROS_WARN("dvs_line_tracker: %s", tracker_->lastLossReason().c_str());
     reported_time_jumps_ = st.time_jumps;
+  }
+  if (imu_ && imu_->statusMessage() != reported_imu_message_)
+  {
+    // The IMU fell back to vision alone (or came back): said once per change.
+    reported_imu_message_ = imu_->statusMessage();
+    if (imu_->status() == ImuStatus::kOk)
+      ROS_INFO("dvs_line_tracker: IMU fused");
+    else if (imu_->status() != ImuStatus::kChecking && imu_->status() != ImuStatus::kWaiting)
+      ROS_WARN("dvs_line_tracker: IMU not used, vision alone (%s): %s", toString(imu_->status()),
+               reported_imu_message_.c_str());
   }
 }
 
@@ -282,6 +441,7 @@ void TrackerRos::publishImage(const dvs_msgs::EventArray& msg)
 
 void TrackerRos::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat)
 {
+  std::lock_guard<std::recursive_mutex> lock(mutex_);
   const double dt = std::max(1e-6, (ros::WallTime::now() - last_diag_).toSec());
   last_diag_ = ros::WallTime::now();
   if (!tracker_)
@@ -306,8 +466,31 @@ void TrackerRos::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat)
   stat.add("last loss reason", tracker_->lastLossReason());
   stat.add("events outside the sensor", st.events_outside_sensor);
   stat.add("restarts after time went back", st.time_jumps);
+  stat.add("gaps bridged by the IMU", st.gaps_bridged);
   if (st.events_outside_sensor > 0 || st.time_jumps > 0)
     stat.mergeSummary(diagnostic_msgs::DiagnosticStatus::WARN, "input problems (see the counters)");
+  stat.add("IMU messages", imu_messages_);
+  if (imu_)
+  {
+    const auto& is = imu_->stats();
+    stat.add("IMU status", toString(imu_->status()));
+    stat.add("IMU message", imu_->statusMessage());
+    stat.add("IMU samples absurd", is.samples_absurd);
+    stat.add("IMU samples out of order", is.samples_out_of_order);
+    stat.add("IMU fallbacks to vision", is.fallbacks);
+    const auto& f = imu_->filter();
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "%.5f %.5f %.5f", f.gyroBias().x(), f.gyroBias().y(), f.gyroBias().z());
+    stat.add("IMU gyro bias [rad/s]", buf);
+    std::snprintf(buf, sizeof buf, "%.4f %.4f %.4f", f.accelBias().x(), f.accelBias().y(), f.accelBias().z());
+    stat.add("IMU accel bias [m/s^2]", buf);
+    std::snprintf(buf, sizeof buf, "%.3f %.3f %.3f", f.gravity().x(), f.gravity().y(), f.gravity().z());
+    stat.add("gravity in the world [m/s^2]", buf);
+    // An IMU stream that is there but not used is a fault the operator must see.
+    if (imu_messages_ > 0 && imu_->status() != ImuStatus::kOk && imu_->status() != ImuStatus::kChecking &&
+        imu_->status() != ImuStatus::kWaiting)
+      stat.mergeSummary(diagnostic_msgs::DiagnosticStatus::WARN, std::string("IMU not used: ") + imu_->statusMessage());
+  }
   events_since_diag_ = updates_since_diag_ = 0;
 }
 }  // namespace dvs_line_tracker

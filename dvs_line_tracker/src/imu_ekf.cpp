@@ -1,0 +1,219 @@
+#include <dvs_line_tracker/imu_ekf.h>
+
+#include <Eigen/Cholesky>
+#include <Eigen/LU>
+
+#include <cmath>
+#include <cstdio>
+
+namespace dvs_line_tracker
+{
+namespace
+{
+/// Exp of a rotation vector as a quaternion.
+Eigen::Quaterniond expQ(const Eigen::Vector3d& w)
+{
+  const double a2 = w.squaredNorm();
+  if (a2 < 1e-8)
+    return Eigen::Quaterniond(1.0, 0.5 * w.x(), 0.5 * w.y(), 0.5 * w.z()).normalized();
+  const double a = std::sqrt(a2);
+  return Eigen::Quaterniond(Eigen::AngleAxisd(a, w / a));
+}
+
+/// Log of a rotation matrix (rotation vector).
+Eigen::Vector3d logR(const Eigen::Matrix3d& R)
+{
+  const Eigen::AngleAxisd aa(R);
+  return aa.angle() * aa.axis();
+}
+
+constexpr double kGravity = 9.81;
+}  // namespace
+
+Vector6d cameraIncrementBetween(const Pose& from, const Pose& to)
+{
+  const Eigen::Matrix3d dR = to.R_camera_world * from.R_camera_world.transpose();
+  Vector6d d;
+  if (dR.trace() > 3.0 - 1e-4)
+  {
+    // Per event the rotation is tiny (< 0.6 deg here): the axis from the antisymmetric part,
+    // exact to third order in the angle (1e-7 rad at the bound), without trigonometry.
+    d.head<3>() = 0.5 * Eigen::Vector3d(dR(2, 1) - dR(1, 2), dR(0, 2) - dR(2, 0), dR(1, 0) - dR(0, 1));
+  }
+  else
+    d.head<3>() = logR(dR);
+  d.tail<3>() = to.t_camera_world - dR * from.t_camera_world;
+  return d;
+}
+
+ImuEkf::ImuEkf(const ImuFusionParams& params, const ImuExtrinsics& extrinsics) : params_(params), x_(extrinsics)
+{
+  R_imu_camera_ = x_.R_camera_imu.transpose();
+  p_imu_camera_ = -R_imu_camera_ * x_.p_camera_imu;
+  q_.setIdentity();
+  p_.setZero();
+  v_.setZero();
+  bg_.setZero();
+  ba_.setZero();
+  g_ = x_.gravity_world ? *x_.gravity_world : Eigen::Vector3d(0, 0, -kGravity);
+  P_.setZero();
+}
+
+void ImuEkf::start(const Pose& T_world_camera, const Eigen::Vector3d& accel, bool keep_learned)
+{
+  // R_world_imu = R_world_camera R_camera_imu; the IMU's origin p_world_camera + R_world_camera p_camera_imu.
+  const Eigen::Matrix3d R_wc = T_world_camera.R_world_camera();
+  const Eigen::Matrix3d R_wi = R_wc * x_.R_camera_imu;
+  q_ = Eigen::Quaterniond(R_wi).normalized();
+  p_ = T_world_camera.p_world_camera() + R_wc * x_.p_camera_imu;
+  v_.setZero();
+  MatrixNd P = MatrixNd::Zero();
+  P.block<3, 3>(kP, kP).diagonal().setConstant(0.05 * 0.05);
+  P.block<3, 3>(kV, kV).diagonal().setConstant(params_.initial_velocity_sigma * params_.initial_velocity_sigma);
+  P.block<3, 3>(kTheta, kTheta).diagonal().setConstant(0.02 * 0.02);
+  if (keep_learned && started_)
+  {
+    P.block<6, 6>(kBg, kBg) = P_.block<6, 6>(kBg, kBg);
+    P.block<3, 3>(kG, kG) = P_.block<3, 3>(kG, kG);
+  }
+  else
+  {
+    bg_.setZero();
+    ba_.setZero();
+    P.block<3, 3>(kBg, kBg).diagonal().setConstant(params_.initial_gyro_bias_sigma * params_.initial_gyro_bias_sigma);
+    P.block<3, 3>(kBa, kBa).diagonal().setConstant(params_.initial_accel_bias_sigma * params_.initial_accel_bias_sigma);
+    if (x_.gravity_world)
+      g_ = *x_.gravity_world;
+    else
+    {
+      // At (near) rest the accelerometer reads -g in IMU axes.
+      const double n = accel.norm();
+      g_ = n > 1.0 ? Eigen::Vector3d(-(R_wi * accel) * (kGravity / n)) : Eigen::Vector3d(0, 0, -kGravity);
+      P.block<3, 3>(kG, kG).diagonal().setConstant(params_.initial_gravity_sigma * params_.initial_gravity_sigma);
+    }
+  }
+  P_ = P;
+  started_ = true;
+}
+
+void ImuEkf::propagateMean(const Eigen::Vector3d& gyro, const Eigen::Vector3d& accel, double dt)
+{
+  if (dt <= 0)
+    return;
+  const Eigen::Vector3d a = q_ * (accel - ba_) + g_;
+  p_ += v_ * dt + 0.5 * dt * dt * a;
+  v_ += a * dt;
+  q_ = q_ * expQ((gyro - bg_) * dt);
+  q_.normalize();
+}
+
+void ImuEkf::propagateCovariance(const Eigen::Vector3d& gyro, const Eigen::Vector3d& accel, double dt)
+{
+  if (dt <= 0)
+    return;
+  const Eigen::Matrix3d R = q_.toRotationMatrix();
+  // F = I + A dt (first order; dt is one IMU sample period).
+  MatrixNd F = MatrixNd::Identity();
+  F.block<3, 3>(kP, kV).diagonal().setConstant(dt);
+  F.block<3, 3>(kV, kTheta) = -R * skew(accel - ba_) * dt;
+  F.block<3, 3>(kV, kBa) = -R * dt;
+  if (!x_.gravity_world)
+    F.block<3, 3>(kV, kG).diagonal().setConstant(dt);
+  F.block<3, 3>(kTheta, kTheta) = expQ(-(gyro - bg_) * dt).toRotationMatrix();
+  F.block<3, 3>(kTheta, kBg).diagonal().setConstant(-dt);
+  MatrixNd P = F * P_ * F.transpose();
+  const double gn = params_.gyro_noise_density, an = params_.accel_noise_density;
+  const double gw = params_.gyro_random_walk, aw = params_.accel_random_walk;
+  P.block<3, 3>(kV, kV).diagonal().array() += an * an * dt;
+  P.block<3, 3>(kTheta, kTheta).diagonal().array() += gn * gn * dt;
+  P.block<3, 3>(kBg, kBg).diagonal().array() += gw * gw * dt;
+  P.block<3, 3>(kBa, kBa).diagonal().array() += aw * aw * dt;
+  P_ = 0.5 * (P + P.transpose());
+}
+
+void ImuEkf::inject(const VectorNd& dx)
+{
+  p_ += dx.segment<3>(kP);
+  v_ += dx.segment<3>(kV);
+  q_ = (q_ * expQ(dx.segment<3>(kTheta))).normalized();
+  bg_ += dx.segment<3>(kBg);
+  ba_ += dx.segment<3>(kBa);
+  if (!x_.gravity_world)
+    g_ += dx.segment<3>(kG);
+}
+
+double ImuEkf::updateCameraPose(const Pose& measured, const Matrix6d& cov, double gate)
+{
+  const Pose predicted = cameraPose();
+  Vector6d r;
+  r.head<3>() = logR(predicted.R_camera_world * measured.R_world_camera());
+  r.tail<3>() = measured.p_world_camera() - predicted.p_world_camera();
+  Eigen::Matrix<double, 6, ImuEkf::kN> H = Eigen::Matrix<double, 6, ImuEkf::kN>::Zero();
+  const Eigen::Matrix3d R = q_.toRotationMatrix();
+  H.block<3, 3>(0, kTheta) = x_.R_camera_imu;
+  H.block<3, 3>(3, kP).setIdentity();
+  H.block<3, 3>(3, kTheta) = -R * skew(p_imu_camera_);
+  const Eigen::Matrix<double, ImuEkf::kN, 6> PHt = P_ * H.transpose();
+  Matrix6d S = H * PHt + cov;
+  S = 0.5 * (S + S.transpose());
+  const Eigen::LLT<Matrix6d> llt(S);
+  if (llt.info() != Eigen::Success)
+    return std::numeric_limits<double>::infinity();
+  const double chi2 = r.dot(llt.solve(r));
+  if (!(chi2 <= gate))
+    return chi2;
+  const Eigen::Matrix<double, ImuEkf::kN, 6> K = llt.solve(PHt.transpose()).transpose();
+  inject(K * r);
+  const MatrixNd IKH = MatrixNd::Identity() - K * H;
+  MatrixNd P = IKH * P_ * IKH.transpose() + K * cov * K.transpose();
+  if (!x_.gravity_world)
+  {
+    // |g| = 9.81 (sigma 0.01 m/s^2): a scalar update.
+    const double n = g_.norm();
+    Eigen::Matrix<double, 1, ImuEkf::kN> h = Eigen::Matrix<double, 1, ImuEkf::kN>::Zero();
+    h.segment<3>(kG) = g_.transpose() / n;
+    const Eigen::Matrix<double, ImuEkf::kN, 1> Ph = P * h.transpose();
+    const double s = h.dot(Ph) + 1e-4;
+    const Eigen::Matrix<double, ImuEkf::kN, 1> k = Ph / s;
+    inject(k * (kGravity - n));
+    P = P - k * Ph.transpose();
+  }
+  P_ = 0.5 * (P + P.transpose());
+  return chi2;
+}
+
+Pose ImuEkf::cameraPose() const
+{
+  const Eigen::Matrix3d R_wi = q_.toRotationMatrix();
+  return Pose::fromWorldCamera(R_wi * R_imu_camera_, p_ + R_wi * p_imu_camera_);
+}
+
+Eigen::Vector3d ImuEkf::cameraAngularVelocity(const Eigen::Vector3d& gyro) const
+{
+  return x_.R_camera_imu * (gyro - bg_);
+}
+
+Eigen::Vector3d ImuEkf::cameraVelocityWorld(const Eigen::Vector3d& gyro) const
+{
+  return v_ + q_ * (gyro - bg_).cross(p_imu_camera_);
+}
+
+Matrix6d ImuEkf::cameraPoseCovariance() const
+{
+  Eigen::Matrix<double, 6, ImuEkf::kN> H = Eigen::Matrix<double, 6, ImuEkf::kN>::Zero();
+  H.block<3, 3>(0, kTheta) = x_.R_camera_imu;
+  H.block<3, 3>(3, kP).setIdentity();
+  H.block<3, 3>(3, kTheta) = -q_.toRotationMatrix() * skew(p_imu_camera_);
+  return H * P_ * H.transpose();
+}
+
+Eigen::Matrix3d ImuEkf::cameraVelocityCovariance() const { return P_.block<3, 3>(kV, kV); }
+
+Eigen::Matrix3d ImuEkf::cameraAngularVelocityCovariance(double sample_period_s) const
+{
+  const double gn = params_.gyro_noise_density;
+  Eigen::Matrix3d c = x_.R_camera_imu * P_.block<3, 3>(kBg, kBg) * x_.R_camera_imu.transpose();
+  c.diagonal().array() += gn * gn / std::max(sample_period_s, 1e-6);
+  return c;
+}
+}  // namespace dvs_line_tracker

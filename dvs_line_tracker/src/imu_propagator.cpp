@@ -1,0 +1,371 @@
+#include <dvs_line_tracker/imu_propagator.h>
+
+#include <Eigen/Cholesky>
+
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+
+namespace dvs_line_tracker
+{
+namespace
+{
+constexpr size_t kRingCapacity = 4096;       // > 4 s of samples at 1 kHz
+constexpr int kStuckSamples = 200;            // an axis repeating its exact value this often is stuck
+constexpr int kUnitsWindow = 500;             // samples over which |accel| is averaged
+constexpr double kMinMeanAccel = 3.0;         // m/s^2: below, the accelerometer is not in m/s^2 (g?)
+constexpr double kMaxMeanAccel = 40.0;
+constexpr double kNisAlpha = 1.0 / 50;        // running mean of the innovations over ~50 updates
+constexpr double kAgreeNis = 600.0;           // scaled mean innovation below which the IMU agrees (sound: ~50)
+constexpr uint64_t kTrustUpdates = 50;        // updates of agreement before the IMU is used
+constexpr int64_t kMaxCheckingNs = 2000000000; // disagreeing this long: vision alone for kDistrustNs
+constexpr double kBiasSigmas = 4.0;           // |bias| beyond this x its prior sigma (norm of 3 axes): implausible
+constexpr int64_t kGravityWindowNs = 200000000; // accelerometer samples averaged for the first gravity
+constexpr double kGate = 200.0;               // chi2 (6 dof) of an update's innovation, at most
+constexpr int64_t kDistrustNs = 2000000000;   // vision alone this long after an absurd stream / disagreement
+
+const ImuExtrinsics& parsed(const ImuFusionParams& p, ImuExtrinsics& out)
+{
+  const std::string err = parseImuExtrinsics(p, out);
+  if (!err.empty())
+    throw std::invalid_argument("dvs_line_tracker: " + err);
+  return out;
+}
+}  // namespace
+
+const char* toString(ImuStatus status)
+{
+  switch (status)
+  {
+    case ImuStatus::kWaiting:
+      return "WAITING";
+    case ImuStatus::kChecking:
+      return "CHECKING";
+    case ImuStatus::kOk:
+      return "OK";
+    case ImuStatus::kLate:
+      return "LATE";
+    case ImuStatus::kAbsurd:
+      return "ABSURD";
+    case ImuStatus::kDisagrees:
+      return "DISAGREES";
+  }
+  return "?";
+}
+
+ImuPropagator::ImuPropagator(const ImuFusionParams& params)
+  : params_(params)
+  , extrinsics_()
+  , ekf_(params_, parsed(params_, extrinsics_))
+  , ring_(kRingCapacity)
+  , max_latency_ns_(static_cast<int64_t>(params.max_latency_s * 1e9))
+  , max_bridge_ns_(static_cast<int64_t>(params.max_bridge_s * 1e9))
+  , update_period_ns_(static_cast<int64_t>(params.update_period_s * 1e9))
+{
+}
+
+void ImuPropagator::setStatus(ImuStatus s, const std::string& message)
+{
+  if (status_ == ImuStatus::kOk && s != ImuStatus::kOk)
+    ++stats_.fallbacks;
+  status_ = s;
+  message_ = message;
+}
+
+bool ImuPropagator::plausible(const Sample& s)
+{
+  if (!s.gyro.allFinite() || !s.accel.allFinite())
+  {
+    message_ = "an IMU sample is not finite";
+    return false;
+  }
+  if (s.gyro.cwiseAbs().maxCoeff() > params_.max_gyro_rad_s)
+  {
+    message_ = "angular rate " + std::to_string(s.gyro.cwiseAbs().maxCoeff()) + " rad/s exceeds imu_max_gyro (deg/s given as rad/s?)";
+    return false;
+  }
+  if (s.accel.cwiseAbs().maxCoeff() > params_.max_accel_m_s2)
+  {
+    message_ = "specific force " + std::to_string(s.accel.cwiseAbs().maxCoeff()) + " m/s^2 exceeds imu_max_accel";
+    return false;
+  }
+  // A stuck axis repeats its exact value; noise never does.
+  bool stuck = false;
+  for (int a = 0; a < 3; ++a)
+  {
+    same_count_[a] = s.gyro[a] == last_gyro_[a] ? same_count_[a] + 1 : 0;
+    same_count_[3 + a] = s.accel[a] == last_accel_[a] ? same_count_[3 + a] + 1 : 0;
+    stuck |= same_count_[a] >= kStuckSamples || same_count_[3 + a] >= kStuckSamples;
+  }
+  last_gyro_ = s.gyro;
+  last_accel_ = s.accel;
+  if (stuck)
+  {
+    message_ = "an IMU axis has repeated the same value for " + std::to_string(kStuckSamples) + " samples (stuck)";
+    return false;
+  }
+  accel_norm_sum_ += s.accel.norm();
+  if (++accel_norm_n_ == kUnitsWindow)
+  {
+    const double mean = accel_norm_sum_ / accel_norm_n_;
+    accel_norm_sum_ = 0;
+    accel_norm_n_ = 0;
+    if (mean < kMinMeanAccel || mean > kMaxMeanAccel)
+    {
+      message_ = "the accelerometer's mean magnitude is " + std::to_string(mean) +
+                 " (expected about 9.81 m/s^2: wrong units?)";
+      return false;
+    }
+  }
+  return true;
+}
+
+void ImuPropagator::addSample(const dvs_driver::ImuSample& in)
+{
+  Sample s;
+  s.t_ns = in.t_ns + static_cast<int64_t>(params_.time_offset_s * 1e9);
+  s.gyro = Eigen::Vector3d(in.gyro[0], in.gyro[1], in.gyro[2]);
+  s.accel = Eigen::Vector3d(in.accel[0], in.accel[1], in.accel[2]);
+  if (newest_ns_ != INT64_MIN && s.t_ns <= newest_ns_)
+  {
+    ++stats_.samples_out_of_order;
+    return;
+  }
+  if (!plausible(s))
+  {
+    ++stats_.samples_absurd;
+    const std::string why = message_;
+    setStatus(ImuStatus::kAbsurd, why);
+    distrust_until_ns_ = s.t_ns + kDistrustNs;
+    return;
+  }
+  if (newest_ns_ != INT64_MIN)
+    sample_period_s_ = (s.t_ns - newest_ns_) * 1e-9;
+  newest_ns_ = s.t_ns;
+  ++stats_.samples;
+  if (count_ == ring_.size())
+  {
+    head_ = (head_ + 1) % ring_.size();  // oldest dropped (not tracking: nothing consumes)
+    --count_;
+  }
+  ring_[(head_ + count_) % ring_.size()] = s;
+  ++count_;
+}
+
+bool ImuPropagator::active(int64_t t_ns) const
+{
+  return tracking_ && trusted_ && status_ == ImuStatus::kOk && newest_ns_ != INT64_MIN && t_ns - newest_ns_ <= max_latency_ns_;
+}
+
+void ImuPropagator::restart(const EstimatorState& state, int64_t t_ns)
+{
+  tracking_ = false;
+  // The sample in force at t_ns: the newest not after it.
+  Eigen::Vector3d accel_sum = Eigen::Vector3d::Zero();
+  int accel_n = 0;
+  while (count_ > 0 && ring_[head_].t_ns <= t_ns)
+  {
+    if (ring_[head_].t_ns >= t_ns - kGravityWindowNs)
+    {
+      accel_sum += ring_[head_].accel;
+      ++accel_n;
+    }
+    cursor_.sample = ring_[head_];
+    have_current_ = true;
+    head_ = (head_ + 1) % ring_.size();
+    --count_;
+  }
+  if (!have_current_ || t_ns - cursor_.sample.t_ns > max_latency_ns_)
+  {
+    setStatus(newest_ns_ == INT64_MIN ? ImuStatus::kWaiting : ImuStatus::kLate,
+              newest_ns_ == INT64_MIN ? "no IMU sample yet" : "no IMU sample within imu_max_latency of the events");
+    return;
+  }
+  if (t_ns < distrust_until_ns_)
+    return;  // status (absurd / disagrees) stays
+  // An unknown gravity starts against the mean specific force of the last samples.
+  ekf_.start(state.pose, accel_n > 0 ? Eigen::Vector3d(accel_sum / accel_n) : cursor_.sample.accel, !forget_learned_);
+  forget_learned_ = false;
+  cursor_.t_ns = t_last_update_ = checking_since_ns_ = previous_event_ns_ = t_ns;
+  cursor_.pending_cov_dt = 0;
+  trusted_ = false;
+  nis_mean_ = 0;
+  updates_since_restart_ = 0;
+  tracking_ = true;
+  setStatus(ImuStatus::kChecking, "checking the IMU against the vision before it is used");
+}
+
+void ImuPropagator::Cursor::meanTo(ImuEkf& f, int64_t t_to)
+{
+  if (t_to <= t_ns)
+    return;
+  // The sample is held until the next one (zero-order hold; a first-order extrapolation along
+  // the last two samples' slope was measured no better: the flips' angular acceleration moves
+  // a 150 ms integration by 0.005 deg either way, and the slope doubles the noise).
+  const double dt = (t_to - t_ns) * 1e-9;
+  f.propagateMean(sample.gyro, sample.accel, dt);
+  pending_cov_dt += dt;
+  t_ns = t_to;
+}
+
+void ImuPropagator::Cursor::next(ImuEkf& f, const Sample& s)
+{
+  meanTo(f, s.t_ns);
+  flushCovariance(f);
+  sample = s;
+}
+
+void ImuPropagator::Cursor::flushCovariance(ImuEkf& f)
+{
+  f.propagateCovariance(sample.gyro, sample.accel, pending_cov_dt);
+  pending_cov_dt = 0;
+}
+
+void ImuPropagator::advanceTo(int64_t t_ns)
+{
+  while (count_ > 0 && ring_[head_].t_ns <= t_ns)
+  {
+    cursor_.next(ekf_, ring_[head_]);
+    head_ = (head_ + 1) % ring_.size();
+    --count_;
+  }
+  cursor_.meanTo(ekf_, t_ns);
+}
+
+void ImuPropagator::updateWithVision(EstimatorState& state)
+{
+  cursor_.flushCovariance(ekf_);
+  vision_covariance_ = visionPoseCovariance(state);
+  const double chi2 = ekf_.updateCameraPose(state.pose, vision_covariance_ * params_.vision_covariance_scale, kGate);
+  ++stats_.updates;
+  t_last_update_ = cursor_.t_ns;
+  const bool rejected = !(chi2 <= kGate);
+  if (rejected)
+    ++stats_.updates_rejected;
+  else
+    stats_.nis_sum += chi2;
+  // Agreement: the running mean of the normalised innovations squared, times the vision
+  // covariance's scale (so that it does not depend on it; ~50 with a sound IMU, thousands with
+  // wrong units, extrinsics or clock offset).
+  nis_mean_ += ((rejected ? kGate : chi2) * params_.vision_covariance_scale - nis_mean_) * kNisAlpha;
+  ++updates_since_restart_;
+  // Biases far outside their prior: the filter is explaining a model error (a wrong gravity,
+  // extrinsic or clock) with them, and the vision would follow it. Vision alone, and the next
+  // start forgets what was learned.
+  const double bg = ekf_.gyroBias().norm(), ba = ekf_.accelBias().norm();
+  if (bg > kBiasSigmas * params_.initial_gyro_bias_sigma || ba > kBiasSigmas * params_.initial_accel_bias_sigma)
+  {
+    tracking_ = false;
+    trusted_ = false;
+    forget_learned_ = true;
+    distrust_until_ns_ = cursor_.t_ns + kDistrustNs;
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "the estimated biases left their plausible range (gyro %.4f rad/s, accel %.3f m/s^2)",
+                  bg, ba);
+    setStatus(ImuStatus::kDisagrees, std::string(buf) + ": a wrong gravity, extrinsic or clock offset? Give imu_gravity_world");
+    return;
+  }
+  const bool agrees = !rejected && nis_mean_ < kAgreeNis;
+  if (trusted_ && !agrees)
+  {
+    // Until the filter agrees with the vision again the IMU does not move the tracker's pose.
+    trusted_ = false;
+    checking_since_ns_ = cursor_.t_ns;
+    setStatus(ImuStatus::kChecking, "the IMU's predictions disagree with the vision: checking again");
+  }
+  if (!trusted_)
+  {
+    if (rejected)
+      ekf_.start(state.pose, cursor_.sample.accel, true);  // follow the vision
+    if (agrees && updates_since_restart_ >= kTrustUpdates)
+    {
+      trusted_ = true;
+      setStatus(ImuStatus::kOk, "");
+    }
+    else if (cursor_.t_ns - checking_since_ns_ > kMaxCheckingNs)
+    {
+      tracking_ = false;
+      distrust_until_ns_ = cursor_.t_ns + kDistrustNs;
+      char buf[64];
+      std::snprintf(buf, sizeof buf, "%.0f", nis_mean_);
+      setStatus(ImuStatus::kDisagrees, std::string("the IMU's predictions disagreed with the vision for ") +
+                                           std::to_string(kMaxCheckingNs / 1000000) +
+                                           " ms (mean scaled innovation " + buf +
+                                           ", agreement below " + std::to_string(int(kAgreeNis)) +
+                                           "): wrong units, extrinsics or clock offset?");
+    }
+    return;
+  }
+  // The tracker continues from the filter's estimate.
+  const Vector6d d = cameraIncrementBetween(state.pose, ekf_.cameraPose());
+  state.pose.applyCameraIncrement(d);
+  state.x_accumulated += d;
+}
+
+void ImuPropagator::propagate(EstimatorState& state, int64_t t_ns)
+{
+  if (!tracking_)
+  {
+    // Start again (checked first) once trusted again and fresh.
+    if (t_ns >= distrust_until_ns_ && newest_ns_ != INT64_MIN && t_ns - newest_ns_ <= max_latency_ns_)
+      restart(state, t_ns);
+    return;
+  }
+  if (newest_ns_ == INT64_MIN || t_ns - newest_ns_ > max_latency_ns_ ||
+      (status_ != ImuStatus::kOk && status_ != ImuStatus::kChecking))
+  {
+    tracking_ = false;
+    trusted_ = false;
+    if (status_ == ImuStatus::kOk || status_ == ImuStatus::kChecking)
+      setStatus(ImuStatus::kLate, "no IMU sample within imu_max_latency of the events (stream missing or late)");
+    return;
+  }
+  // The vision's pose is that of the previous event: compared only when the filter got there.
+  if (cursor_.t_ns - t_last_update_ >= update_period_ns_ && cursor_.t_ns >= previous_event_ns_)
+  {
+    updateWithVision(state);
+    if (!tracking_)
+      return;
+  }
+  // Never beyond the newest sample by more than two sample periods: samples that arrive late
+  // (another topic, a loaded machine) are then still integrated in order instead of being
+  // skipped by a filter that held an old one across their interval.
+  const int64_t hold_ns = std::max<int64_t>(2000000, static_cast<int64_t>(2e9 * sample_period_s_));
+  const int64_t t_to = std::min(t_ns, newest_ns_ + hold_ns);
+  previous_event_ns_ = t_ns;
+  if (!trusted_)
+  {
+    advanceTo(t_to);
+    return;
+  }
+  const Pose before = ekf_.cameraPose();
+  advanceTo(t_to);
+  const Vector6d d = cameraIncrementBetween(before, ekf_.cameraPose());
+  state.pose.applyCameraIncrement(d);
+  state.x_accumulated += d;
+}
+
+bool ImuPropagator::odometry(int64_t t_ns, ImuOdometry& out) const
+{
+  if (!tracking_ || status_ != ImuStatus::kOk)
+    return false;
+  // A copy of the filter, carried through the samples not yet consumed (an event-free gap) to t.
+  ImuEkf f = ekf_;
+  Cursor c = cursor_;
+  for (size_t k = 0; k < count_ && ring_[(head_ + k) % ring_.size()].t_ns <= t_ns; ++k)
+    c.next(f, ring_[(head_ + k) % ring_.size()]);
+  c.meanTo(f, t_ns);
+  c.flushCovariance(f);
+  const int64_t t = c.t_ns;
+  const Sample& cur = c.sample;
+  out.t_ns = std::max(t_ns, t);
+  out.T_world_camera = f.cameraPose();
+  out.velocity_world = f.cameraVelocityWorld(cur.gyro);
+  out.angular_velocity_camera = f.cameraAngularVelocity(cur.gyro);
+  // The filter's covariance, plus the part of the vision's error that does not average away.
+  out.pose_covariance = f.cameraPoseCovariance() + vision_covariance_ * params_.vision_error_scale;
+  out.velocity_covariance = f.cameraVelocityCovariance();
+  out.angular_velocity_covariance = f.cameraAngularVelocityCovariance(sample_period_s_);
+  return true;
+}
+}  // namespace dvs_line_tracker
