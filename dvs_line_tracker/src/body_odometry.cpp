@@ -1,5 +1,5 @@
 #include <dvs_line_tracker/body_odometry.h>
-#include <dvs_line_tracker/imu_fusion_params.h>
+#include <dvs_line_tracker/vector_params.h>
 
 namespace dvs_line_tracker
 {
@@ -33,19 +33,10 @@ Matrix6d poseCovarianceToBody(const Matrix6d& cov, const Pose& T_world_camera, c
 
 std::string parseBodyCameraExtrinsic(const std::string& q_text, const std::string& p_text, Pose& T_camera_body)
 {
-  double q[4], t[3];
-  if (!parseNumbers(q_text, 4, q))
-    return "q_body_camera must be 4 numbers 'x y z w' (got '" + q_text + "')";
-  const Eigen::Quaterniond quat(q[3], q[0], q[1], q[2]);
-  if (std::abs(quat.norm() - 1.0) > 1e-3)
-    return "q_body_camera must be a unit quaternion (norm " + std::to_string(quat.norm()) + ")";
-  if (!parseNumbers(p_text, 3, t))
-    return "p_body_camera must be 3 numbers 'x y z' in metres (got '" + p_text + "')";
   // As the suite's pose type, T_camera_body maps camera points into the body frame:
   // p_body = R_body_camera p_camera + p_body_camera.
-  T_camera_body.R_camera_world = quat.normalized().toRotationMatrix();
-  T_camera_body.t_camera_world = Eigen::Vector3d(t[0], t[1], t[2]);
-  return "";
+  return parseRotationTranslation(q_text, "q_body_camera", p_text, "p_body_camera", T_camera_body.R_camera_world,
+                                  T_camera_body.t_camera_world);
 }
 
 BodyOdometry toBodyOdometry(const ImuOdometry& o, const Pose& T_camera_body)

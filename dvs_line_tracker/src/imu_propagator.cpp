@@ -61,6 +61,7 @@ ImuPropagator::ImuPropagator(const ImuFusionParams& params)
   , max_latency_ns_(static_cast<int64_t>(params.max_latency_s * 1e9))
   , max_bridge_ns_(static_cast<int64_t>(params.max_bridge_s * 1e9))
   , update_period_ns_(static_cast<int64_t>(params.update_period_s * 1e9))
+  , time_offset_ns_(static_cast<int64_t>(params.time_offset_s * 1e9))
 {
 }
 
@@ -70,6 +71,15 @@ void ImuPropagator::setStatus(ImuStatus s, const std::string& message)
     ++stats_.fallbacks;
   status_ = s;
   message_ = message;
+}
+
+void ImuPropagator::setAside(ImuStatus s, const std::string& message, int64_t t_ns, bool forget)
+{
+  tracking_ = false;
+  trusted_ = false;
+  forget_learned_ = forget_learned_ || forget;
+  distrust_until_ns_ = t_ns + kDistrustNs;
+  setStatus(s, message);
 }
 
 bool ImuPropagator::plausible(const Sample& s)
@@ -123,7 +133,7 @@ bool ImuPropagator::plausible(const Sample& s)
 void ImuPropagator::addSample(const dvs_driver::ImuSample& in)
 {
   Sample s;
-  s.t_ns = in.t_ns + static_cast<int64_t>(params_.time_offset_s * 1e9);
+  s.t_ns = eventTimeOf(in);
   s.gyro = Eigen::Vector3d(in.gyro[0], in.gyro[1], in.gyro[2]);
   s.accel = Eigen::Vector3d(in.accel[0], in.accel[1], in.accel[2]);
   if (newest_ns_ != INT64_MIN && s.t_ns <= newest_ns_)
@@ -135,8 +145,7 @@ void ImuPropagator::addSample(const dvs_driver::ImuSample& in)
   {
     ++stats_.samples_absurd;
     const std::string why = message_;
-    setStatus(ImuStatus::kAbsurd, why);
-    distrust_until_ns_ = s.t_ns + kDistrustNs;
+    setAside(ImuStatus::kAbsurd, why, s.t_ns);
     return;
   }
   if (newest_ns_ != INT64_MIN)
@@ -255,14 +264,12 @@ void ImuPropagator::updateWithVision(EstimatorState& state)
   const double bg = ekf_.gyroBias().norm(), ba = ekf_.accelBias().norm();
   if (bg > kBiasSigmas * params_.initial_gyro_bias_sigma || ba > kBiasSigmas * params_.initial_accel_bias_sigma)
   {
-    tracking_ = false;
-    trusted_ = false;
-    forget_learned_ = true;
-    distrust_until_ns_ = cursor_.t_ns + kDistrustNs;
     char buf[160];
     std::snprintf(buf, sizeof buf, "the estimated biases left their plausible range (gyro %.4f rad/s, accel %.3f m/s^2)",
                   bg, ba);
-    setStatus(ImuStatus::kDisagrees, std::string(buf) + ": a wrong gravity, extrinsic or clock offset? Give imu_gravity_world");
+    setAside(ImuStatus::kDisagrees,
+             std::string(buf) + ": a wrong gravity, extrinsic or clock offset? Give imu_gravity_world", cursor_.t_ns,
+             true);
     return;
   }
   const bool agrees = !rejected && nis_mean_ < kAgreeNis;
@@ -284,15 +291,13 @@ void ImuPropagator::updateWithVision(EstimatorState& state)
     }
     else if (cursor_.t_ns - checking_since_ns_ > kMaxCheckingNs)
     {
-      tracking_ = false;
-      distrust_until_ns_ = cursor_.t_ns + kDistrustNs;
       char buf[64];
       std::snprintf(buf, sizeof buf, "%.0f", nis_mean_);
-      setStatus(ImuStatus::kDisagrees, std::string("the IMU's predictions disagreed with the vision for ") +
-                                           std::to_string(kMaxCheckingNs / 1000000) +
-                                           " ms (mean scaled innovation " + buf +
-                                           ", agreement below " + std::to_string(int(kAgreeNis)) +
-                                           "): wrong units, extrinsics or clock offset?");
+      setAside(ImuStatus::kDisagrees,
+               std::string("the IMU's predictions disagreed with the vision for ") +
+                   std::to_string(kMaxCheckingNs / 1000000) + " ms (mean scaled innovation " + buf +
+                   ", agreement below " + std::to_string(int(kAgreeNis)) + "): wrong units, extrinsics or clock offset?",
+               cursor_.t_ns);
     }
     return;
   }
@@ -311,12 +316,11 @@ void ImuPropagator::propagate(EstimatorState& state, int64_t t_ns)
       restart(state, t_ns);
     return;
   }
-  if (newest_ns_ == INT64_MIN || t_ns - newest_ns_ > max_latency_ns_ ||
-      (status_ != ImuStatus::kOk && status_ != ImuStatus::kChecking))
+  if (newest_ns_ == INT64_MIN || t_ns - newest_ns_ > max_latency_ns_ || !isEngaged(status_))
   {
     tracking_ = false;
     trusted_ = false;
-    if (status_ == ImuStatus::kOk || status_ == ImuStatus::kChecking)
+    if (isEngaged(status_))
       setStatus(ImuStatus::kLate, "no IMU sample within imu_max_latency of the events (stream missing or late)");
     return;
   }

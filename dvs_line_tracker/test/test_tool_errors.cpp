@@ -171,6 +171,46 @@ TEST(ToolErrors, TrackOfflineSaysWhatIsWrongWithItsInput)
   fs::remove(garbage);
 }
 
+TEST(ToolErrors, TrackOfflineImuOptionsSayWhatIsWrong)
+{
+  const std::string& d = dataset();
+  // The simulator's imu.txt is fused: the JSON says so.
+  const std::string json = (fs::temp_directory_path() / ("tool_err_imu_" + std::to_string(::getpid()))).string();
+  const int status = std::system((track("--out /dev/null --imu " + d + "/imu.txt") + " > " + json + " 2> /dev/null").c_str());
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 0);
+  std::ifstream jin(json);
+  const std::string out((std::istreambuf_iterator<char>(jin)), std::istreambuf_iterator<char>());
+  EXPECT_NE(out.find("\"imu\": {\"status\""), std::string::npos) << out;
+  fs::remove(json);
+  // A missing imu.txt: named.
+  Result r = run(track("--out /dev/null --imu /nonexistent/imu.txt"));
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("/nonexistent/imu.txt"), std::string::npos) << r.err;
+  // A malformed one: named with its line.
+  const std::string bad = (fs::temp_directory_path() / ("tool_err_badimu_" + std::to_string(::getpid()))).string();
+  std::ofstream(bad) << "0.0 0 9.81 0 0 0\n";
+  r = run(track("--out /dev/null --imu " + bad));
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find(bad), std::string::npos) << r.err;
+  fs::remove(bad);
+  // events.txt carries no IMU: `--imu recording` says so.
+  r = run(track("--out /dev/null --imu recording"));
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("carries no IMU samples"), std::string::npos) << r.err;
+  // --odometry without --imu.
+  r = run(track("--out /dev/null --odometry /dev/null"));
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("--odometry needs --imu"), std::string::npos) << r.err;
+  // A bad IMU vector parameter: named.
+  const std::string params = (fs::temp_directory_path() / ("tool_err_imuparams_" + std::to_string(::getpid()))).string();
+  std::ofstream(params) << "imu_q_camera_imu: \"0 0 1\"\n";
+  r = run(track("--out /dev/null --imu " + d + "/imu.txt --params " + params));
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("imu_q_camera_imu"), std::string::npos) << r.err;
+  fs::remove(params);
+}
+
 TEST(ToolErrors, PythonToolsGiveOneLineErrorsNotTracebacks)
 {
   // dvs_launch's scripts (the demo report, the metric's plot, bag conversion) on missing inputs.

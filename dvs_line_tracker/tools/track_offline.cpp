@@ -318,10 +318,9 @@ int main(int argc, char** argv)
     {
       const auto& e = stream.events[i];
       // Every IMU sample up to the event first (the sample in force at its time).
-      while (propagator && next_imu < imu.size() &&
-             imu[next_imu].t_ns + static_cast<int64_t>(params.imu.time_offset_s * 1e9) <= e.t_ns)
+      while (propagator && next_imu < imu.size() && propagator->eventTimeOf(imu[next_imu]) <= e.t_ns)
       {
-        const int64_t t_sample = imu[next_imu].t_ns + static_cast<int64_t>(params.imu.time_offset_s * 1e9);
+        const int64_t t_sample = propagator->eventTimeOf(imu[next_imu]);
         propagator->addSample(imu[next_imu++]);
         ImuOdometry o;
         if (odometry_out && propagator->odometry(t_sample, o))

@@ -54,9 +54,6 @@ struct ImuExtrinsics
   std::optional<Eigen::Vector3d> gravity_world;
 };
 
-/// Exactly `n` finite numbers separated by spaces or commas (brackets allowed) into `out`.
-bool parseNumbers(std::string text, int n, double* out);
-
 /// Parse the vector parameters; returns "" or a message naming the parameter.
 std::string parseImuExtrinsics(const ImuFusionParams& params, ImuExtrinsics& out);
 }  // namespace dvs_line_tracker

@@ -37,6 +37,10 @@ enum class ImuStatus
   kDisagrees,  ///< the filter kept disagreeing with the vision: vision alone for a while
 };
 const char* toString(ImuStatus status);
+/// The filter runs (fused, or checked before it is fused): event packets wait for its samples.
+inline bool isEngaged(ImuStatus s) { return s == ImuStatus::kOk || s == ImuStatus::kChecking; }
+/// An IMU stream is there but set aside (late, absurd, disagreeing): the operator must be told.
+inline bool isSetAside(ImuStatus s) { return !isEngaged(s) && s != ImuStatus::kWaiting; }
 
 struct ImuFusionStats
 {
@@ -73,6 +77,8 @@ public:
   /// A sample in the IMU's clock (time_offset is added here). Older than the newest: dropped and
   /// counted. Implausible: dropped, counted, and the stream is marked absurd for a while.
   void addSample(const dvs_driver::ImuSample& sample);
+  /// A sample's time in the events' clock (its stamp + imu_time_offset).
+  int64_t eventTimeOf(const dvs_driver::ImuSample& sample) const { return sample.t_ns + time_offset_ns_; }
 
   void propagate(EstimatorState& state, int64_t t_ns) override;
   void restart(const EstimatorState& state, int64_t t_ns) override;
@@ -108,6 +114,8 @@ private:
     void flushCovariance(ImuEkf& f);
   };
   void setStatus(ImuStatus s, const std::string& message);
+  /// Vision alone from `t_ns` for kDistrustNs, then a fresh start; `forget`: without what was learned.
+  void setAside(ImuStatus s, const std::string& message, int64_t t_ns, bool forget = false);
   void advanceTo(int64_t t_ns);
   void updateWithVision(EstimatorState& state);
   bool plausible(const Sample& s);
@@ -122,7 +130,7 @@ private:
   int64_t t_last_update_ = 0, newest_ns_ = INT64_MIN, previous_event_ns_ = 0;
   double sample_period_s_ = 1e-3;  ///< the latest interval between samples
   Matrix6d vision_covariance_ = Matrix6d::Zero();  ///< the latest Gauss-Newton covariance (unscaled)
-  int64_t max_latency_ns_, max_bridge_ns_, update_period_ns_;
+  int64_t max_latency_ns_, max_bridge_ns_, update_period_ns_, time_offset_ns_;
   ImuStatus status_ = ImuStatus::kWaiting;
   std::string message_ = "no IMU sample yet";
   int64_t distrust_until_ns_ = INT64_MIN;  ///< absurd / disagreeing: not fused before this

@@ -232,7 +232,7 @@ void TrackerRos::processPending()
     if (pending_.empty())
       return;
     const auto& p = pending_.front();
-    const bool imu_used = imu_ && (imu_->status() == ImuStatus::kOk || imu_->status() == ImuStatus::kChecking);
+    const bool imu_used = imu_ && isEngaged(imu_->status());
     const int64_t end_ns = endOf(*p.msg);
     const int64_t newest_event_ns = std::max(end_ns, endOf(*pending_.back().msg));  // an empty last packet: no time
     if (imu_used && end_ns != INT64_MIN && imu_->newestSampleNs() < end_ns &&
@@ -326,7 +326,7 @@ void TrackerRos::reportInputProblems()
     reported_imu_message_ = imu_->statusMessage();
     if (imu_->status() == ImuStatus::kOk)
       ROS_INFO("dvs_line_tracker: IMU fused");
-    else if (imu_->status() != ImuStatus::kChecking && imu_->status() != ImuStatus::kWaiting)
+    else if (isSetAside(imu_->status()))
       ROS_WARN("dvs_line_tracker: IMU not used, vision alone (%s): %s", toString(imu_->status()),
                reported_imu_message_.c_str());
   }
@@ -487,8 +487,7 @@ void TrackerRos::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat)
     std::snprintf(buf, sizeof buf, "%.3f %.3f %.3f", f.gravity().x(), f.gravity().y(), f.gravity().z());
     stat.add("gravity in the world [m/s^2]", buf);
     // An IMU stream that is there but not used is a fault the operator must see.
-    if (imu_messages_ > 0 && imu_->status() != ImuStatus::kOk && imu_->status() != ImuStatus::kChecking &&
-        imu_->status() != ImuStatus::kWaiting)
+    if (imu_messages_ > 0 && isSetAside(imu_->status()))
       stat.mergeSummary(diagnostic_msgs::DiagnosticStatus::WARN, std::string("IMU not used: ") + imu_->statusMessage());
   }
   events_since_diag_ = updates_since_diag_ = 0;
