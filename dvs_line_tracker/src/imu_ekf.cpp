@@ -46,50 +46,57 @@ Vector6d cameraIncrementBetween(const Pose& from, const Pose& to)
   return d;
 }
 
-ImuEkf::ImuEkf(const ImuFusionParams& params, const ImuExtrinsics& extrinsics) : params_(params), x_(extrinsics)
+ImuEkf::ImuEkf(const ImuFusionParams& params, const ImuExtrinsics& extrinsics) : params_(&params), x_(&extrinsics)
 {
-  R_imu_camera_ = x_.R_camera_imu.transpose();
-  p_imu_camera_ = -R_imu_camera_ * x_.p_camera_imu;
+  R_imu_camera_ = x_->R_camera_imu.transpose();
+  p_imu_camera_ = -R_imu_camera_ * x_->p_camera_imu;
   q_.setIdentity();
   p_.setZero();
   v_.setZero();
   bg_.setZero();
   ba_.setZero();
-  g_ = x_.gravity_world ? *x_.gravity_world : Eigen::Vector3d(0, 0, -kGravity);
+  g_ = x_->gravity_world ? *x_->gravity_world : Eigen::Vector3d(0, 0, -kGravity);
   P_.setZero();
 }
 
-void ImuEkf::start(const Pose& T_world_camera, const Eigen::Vector3d& accel, bool keep_learned)
+void ImuEkf::start(const Pose& T_world_camera, const Eigen::Vector3d& accel, Keep keep)
 {
   // R_world_imu = R_world_camera R_camera_imu; the IMU's origin p_world_camera + R_world_camera p_camera_imu.
   const Eigen::Matrix3d R_wc = T_world_camera.R_world_camera();
-  const Eigen::Matrix3d R_wi = R_wc * x_.R_camera_imu;
+  const Eigen::Matrix3d R_wi = R_wc * x_->R_camera_imu;
   q_ = Eigen::Quaterniond(R_wi).normalized();
-  p_ = T_world_camera.p_world_camera() + R_wc * x_.p_camera_imu;
+  p_ = T_world_camera.p_world_camera() + R_wc * x_->p_camera_imu;
   v_.setZero();
+  if (!started_)
+    keep = Keep::kNothing;
   MatrixNd P = MatrixNd::Zero();
   P.block<3, 3>(kP, kP).diagonal().setConstant(0.05 * 0.05);
-  P.block<3, 3>(kV, kV).diagonal().setConstant(params_.initial_velocity_sigma * params_.initial_velocity_sigma);
+  P.block<3, 3>(kV, kV).diagonal().setConstant(params_->initial_velocity_sigma * params_->initial_velocity_sigma);
   P.block<3, 3>(kTheta, kTheta).diagonal().setConstant(0.02 * 0.02);
-  if (keep_learned && started_)
+  if (keep == Keep::kNothing)
   {
-    P.block<6, 6>(kBg, kBg) = P_.block<6, 6>(kBg, kBg);
+    bg_.setZero();
+    P.block<3, 3>(kBg, kBg).diagonal().setConstant(params_->initial_gyro_bias_sigma * params_->initial_gyro_bias_sigma);
+  }
+  else
+    P.block<3, 3>(kBg, kBg) = P_.block<3, 3>(kBg, kBg);
+  if (keep == Keep::kAll)
+  {
+    P.block<3, 3>(kBa, kBa) = P_.block<3, 3>(kBa, kBa);
     P.block<3, 3>(kG, kG) = P_.block<3, 3>(kG, kG);
   }
   else
   {
-    bg_.setZero();
     ba_.setZero();
-    P.block<3, 3>(kBg, kBg).diagonal().setConstant(params_.initial_gyro_bias_sigma * params_.initial_gyro_bias_sigma);
-    P.block<3, 3>(kBa, kBa).diagonal().setConstant(params_.initial_accel_bias_sigma * params_.initial_accel_bias_sigma);
-    if (x_.gravity_world)
-      g_ = *x_.gravity_world;
+    P.block<3, 3>(kBa, kBa).diagonal().setConstant(params_->initial_accel_bias_sigma * params_->initial_accel_bias_sigma);
+    if (x_->gravity_world)
+      g_ = *x_->gravity_world;
     else
     {
       // At (near) rest the accelerometer reads -g in IMU axes.
       const double n = accel.norm();
       g_ = n > 1.0 ? Eigen::Vector3d(-(R_wi * accel) * (kGravity / n)) : Eigen::Vector3d(0, 0, -kGravity);
-      P.block<3, 3>(kG, kG).diagonal().setConstant(params_.initial_gravity_sigma * params_.initial_gravity_sigma);
+      P.block<3, 3>(kG, kG).diagonal().setConstant(params_->initial_gravity_sigma * params_->initial_gravity_sigma);
     }
   }
   P_ = P;
@@ -100,9 +107,14 @@ void ImuEkf::propagateMean(const Eigen::Vector3d& gyro, const Eigen::Vector3d& a
 {
   if (dt <= 0)
     return;
-  const Eigen::Vector3d a = q_ * (accel - ba_) + g_;
-  p_ += v_ * dt + 0.5 * dt * dt * a;
-  v_ += a * dt;
+  if (use_accelerometer_)
+  {
+    const Eigen::Vector3d a = q_ * (accel - ba_) + g_;
+    p_ += v_ * dt + 0.5 * dt * dt * a;
+    v_ += a * dt;
+  }
+  else
+    p_ += v_ * dt;
   q_ = q_ * expQ((gyro - bg_) * dt);
   q_.normalize();
 }
@@ -115,16 +127,20 @@ void ImuEkf::propagateCovariance(const Eigen::Vector3d& gyro, const Eigen::Vecto
   // F = I + A dt (first order; dt is one IMU sample period).
   MatrixNd F = MatrixNd::Identity();
   F.block<3, 3>(kP, kV).diagonal().setConstant(dt);
-  F.block<3, 3>(kV, kTheta) = -R * skew(accel - ba_) * dt;
-  F.block<3, 3>(kV, kBa) = -R * dt;
-  if (!x_.gravity_world)
-    F.block<3, 3>(kV, kG).diagonal().setConstant(dt);
+  if (use_accelerometer_)
+  {
+    F.block<3, 3>(kV, kTheta) = -R * skew(accel - ba_) * dt;
+    F.block<3, 3>(kV, kBa) = -R * dt;
+    if (!x_->gravity_world)
+      F.block<3, 3>(kV, kG).diagonal().setConstant(dt);
+  }
   F.block<3, 3>(kTheta, kTheta) = expQ(-(gyro - bg_) * dt).toRotationMatrix();
   F.block<3, 3>(kTheta, kBg).diagonal().setConstant(-dt);
   MatrixNd P = F * P_ * F.transpose();
-  const double gn = params_.gyro_noise_density, an = params_.accel_noise_density;
-  const double gw = params_.gyro_random_walk, aw = params_.accel_random_walk;
-  P.block<3, 3>(kV, kV).diagonal().array() += an * an * dt;
+  const double gn = params_->gyro_noise_density, an = params_->accel_noise_density;
+  const double gw = params_->gyro_random_walk, aw = params_->accel_random_walk;
+  const double an_used = use_accelerometer_ ? an : kUnmodelledAccelDensity;
+  P.block<3, 3>(kV, kV).diagonal().array() += an_used * an_used * dt;
   P.block<3, 3>(kTheta, kTheta).diagonal().array() += gn * gn * dt;
   P.block<3, 3>(kBg, kBg).diagonal().array() += gw * gw * dt;
   P.block<3, 3>(kBa, kBa).diagonal().array() += aw * aw * dt;
@@ -138,7 +154,7 @@ void ImuEkf::inject(const VectorNd& dx)
   q_ = (q_ * expQ(dx.segment<3>(kTheta))).normalized();
   bg_ += dx.segment<3>(kBg);
   ba_ += dx.segment<3>(kBa);
-  if (!x_.gravity_world)
+  if (!x_->gravity_world)
     g_ += dx.segment<3>(kG);
 }
 
@@ -150,7 +166,7 @@ double ImuEkf::updateCameraPose(const Pose& measured, const Matrix6d& cov, doubl
   r.tail<3>() = measured.p_world_camera() - predicted.p_world_camera();
   Eigen::Matrix<double, 6, ImuEkf::kN> H = Eigen::Matrix<double, 6, ImuEkf::kN>::Zero();
   const Eigen::Matrix3d R = q_.toRotationMatrix();
-  H.block<3, 3>(0, kTheta) = x_.R_camera_imu;
+  H.block<3, 3>(0, kTheta) = x_->R_camera_imu;
   H.block<3, 3>(3, kP).setIdentity();
   H.block<3, 3>(3, kTheta) = -R * skew(p_imu_camera_);
   const Eigen::Matrix<double, ImuEkf::kN, 6> PHt = P_ * H.transpose();
@@ -166,7 +182,7 @@ double ImuEkf::updateCameraPose(const Pose& measured, const Matrix6d& cov, doubl
   inject(K * r);
   const MatrixNd IKH = MatrixNd::Identity() - K * H;
   MatrixNd P = IKH * P_ * IKH.transpose() + K * cov * K.transpose();
-  if (!x_.gravity_world)
+  if (!x_->gravity_world)
   {
     // |g| = 9.81 (sigma 0.01 m/s^2): a scalar update.
     const double n = g_.norm();
@@ -190,7 +206,7 @@ Pose ImuEkf::cameraPose() const
 
 Eigen::Vector3d ImuEkf::cameraAngularVelocity(const Eigen::Vector3d& gyro) const
 {
-  return x_.R_camera_imu * (gyro - bg_);
+  return x_->R_camera_imu * (gyro - bg_);
 }
 
 Eigen::Vector3d ImuEkf::cameraVelocityWorld(const Eigen::Vector3d& gyro) const
@@ -201,7 +217,7 @@ Eigen::Vector3d ImuEkf::cameraVelocityWorld(const Eigen::Vector3d& gyro) const
 Matrix6d ImuEkf::cameraPoseCovariance() const
 {
   Eigen::Matrix<double, 6, ImuEkf::kN> H = Eigen::Matrix<double, 6, ImuEkf::kN>::Zero();
-  H.block<3, 3>(0, kTheta) = x_.R_camera_imu;
+  H.block<3, 3>(0, kTheta) = x_->R_camera_imu;
   H.block<3, 3>(3, kP).setIdentity();
   H.block<3, 3>(3, kTheta) = -q_.toRotationMatrix() * skew(p_imu_camera_);
   return H * P_ * H.transpose();
@@ -211,8 +227,8 @@ Eigen::Matrix3d ImuEkf::cameraVelocityCovariance() const { return P_.block<3, 3>
 
 Eigen::Matrix3d ImuEkf::cameraAngularVelocityCovariance(double sample_period_s) const
 {
-  const double gn = params_.gyro_noise_density;
-  Eigen::Matrix3d c = x_.R_camera_imu * P_.block<3, 3>(kBg, kBg) * x_.R_camera_imu.transpose();
+  const double gn = params_->gyro_noise_density;
+  Eigen::Matrix3d c = x_->R_camera_imu * P_.block<3, 3>(kBg, kBg) * x_->R_camera_imu.transpose();
   c.diagonal().array() += gn * gn / std::max(sample_period_s, 1e-6);
   return c;
 }

@@ -1,4 +1,5 @@
 #include <dvs_line_tracker/imu_propagator.h>
+#include <cstdlib>
 
 #include <Eigen/Cholesky>
 
@@ -21,6 +22,8 @@ constexpr uint64_t kTrustUpdates = 50;        // updates of agreement before the
 constexpr int64_t kMaxCheckingNs = 2000000000; // disagreeing this long: vision alone for kDistrustNs
 constexpr double kBiasSigmas = 4.0;           // |bias| beyond this x its prior sigma (norm of 3 axes): implausible
 constexpr int64_t kGravityWindowNs = 200000000; // accelerometer samples averaged for the first gravity
+constexpr double kCheckedBiasSigmas = 2.0;    // an estimated gravity is confirmed with the accel bias inside this x its prior
+const char* const kCheckingGravity = "checking the estimated gravity: gyroscope only until then";
 constexpr double kGate = 200.0;               // chi2 (6 dof) of an update's innovation, at most
 constexpr int64_t kDistrustNs = 2000000000;   // vision alone this long after an absurd stream / disagreement
 
@@ -43,6 +46,8 @@ const char* toString(ImuStatus status)
       return "CHECKING";
     case ImuStatus::kOk:
       return "OK";
+    case ImuStatus::kGyroOnly:
+      return "GYRO_ONLY";
     case ImuStatus::kLate:
       return "LATE";
     case ImuStatus::kAbsurd:
@@ -62,6 +67,8 @@ ImuPropagator::ImuPropagator(const ImuFusionParams& params)
   , max_bridge_ns_(static_cast<int64_t>(params.max_bridge_s * 1e9))
   , update_period_ns_(static_cast<int64_t>(params.update_period_s * 1e9))
   , time_offset_ns_(static_cast<int64_t>(params.time_offset_s * 1e9))
+  , gravity_check_ns_(static_cast<int64_t>(params.gravity_check_s * 1e9))
+  , gravity_check_(params_, extrinsics_)
 {
 }
 
@@ -163,7 +170,7 @@ void ImuPropagator::addSample(const dvs_driver::ImuSample& in)
 
 bool ImuPropagator::active(int64_t t_ns) const
 {
-  return tracking_ && trusted_ && status_ == ImuStatus::kOk && newest_ns_ != INT64_MIN && t_ns - newest_ns_ <= max_latency_ns_;
+  return tracking_ && trusted_ && isFused(status_) && newest_ns_ != INT64_MIN && t_ns - newest_ns_ <= max_latency_ns_;
 }
 
 void ImuPropagator::restart(const EstimatorState& state, int64_t t_ns)
@@ -193,10 +200,28 @@ void ImuPropagator::restart(const EstimatorState& state, int64_t t_ns)
   if (t_ns < distrust_until_ns_)
     return;  // status (absurd / disagrees) stays
   // An unknown gravity starts against the mean specific force of the last samples.
-  ekf_.start(state.pose, accel_n > 0 ? Eigen::Vector3d(accel_sum / accel_n) : cursor_.sample.accel, !forget_learned_);
+  // What was learned is kept, except after implausible biases, and an estimated gravity that
+  // was not confirmed.
+  const ImuEkf::Keep keep = forget_learned_                          ? ImuEkf::Keep::kNothing
+                            : gravityEstimated() && !gravity_checked_ ? ImuEkf::Keep::kGyroBias
+                                                                      : ImuEkf::Keep::kAll;
+  ekf_.start(state.pose, accel_n > 0 ? Eigen::Vector3d(accel_sum / accel_n) : cursor_.sample.accel, keep);
+  if (forget_learned_)
+    gravity_checked_ = false;
   forget_learned_ = false;
-  cursor_.t_ns = t_last_update_ = checking_since_ns_ = previous_event_ns_ = t_ns;
+  gyro_only_ = false;
+  cursor_.t_ns = t_last_update_ = checking_since_ns_ = previous_event_ns_ = started_ns_ = t_ns;
   cursor_.pending_cov_dt = 0;
+  // An estimated gravity that was not confirmed yet: the tracker's filter runs without the
+  // accelerometer (orientation only) while a second filter with it checks the gravity.
+  checking_gravity_ = gravityEstimated() && !gravity_checked_;
+  ekf_.useAccelerometer(!checking_gravity_);
+  if (checking_gravity_)
+  {
+    gravity_check_ = ekf_;
+    gravity_check_.useAccelerometer(true);
+    gravity_cursor_ = cursor_;
+  }
   trusted_ = false;
   nis_mean_ = 0;
   updates_since_restart_ = 0;
@@ -235,6 +260,8 @@ void ImuPropagator::advanceTo(int64_t t_ns)
   while (count_ > 0 && ring_[head_].t_ns <= t_ns)
   {
     cursor_.next(ekf_, ring_[head_]);
+    if (checking_gravity_)
+      gravity_cursor_.next(gravity_check_, ring_[head_]);
     head_ = (head_ + 1) % ring_.size();
     --count_;
   }
@@ -259,19 +286,26 @@ void ImuPropagator::updateWithVision(EstimatorState& state)
   nis_mean_ += ((rejected ? kGate : chi2) * params_.vision_covariance_scale - nis_mean_) * kNisAlpha;
   ++updates_since_restart_;
   // Biases far outside their prior: the filter is explaining a model error (a wrong gravity,
-  // extrinsic or clock) with them, and the vision would follow it. Vision alone, and the next
-  // start forgets what was learned.
+  // extrinsic or clock) with them, and the vision would follow it.
   const double bg = ekf_.gyroBias().norm(), ba = ekf_.accelBias().norm();
-  if (bg > kBiasSigmas * params_.initial_gyro_bias_sigma || ba > kBiasSigmas * params_.initial_accel_bias_sigma)
+  if (bg > kBiasSigmas * params_.initial_gyro_bias_sigma ||
+      (ba > kBiasSigmas * params_.initial_accel_bias_sigma && !gravityEstimated()))
   {
+    // Vision alone, and the next start forgets what was learned.
     char buf[160];
     std::snprintf(buf, sizeof buf, "the estimated biases left their plausible range (gyro %.4f rad/s, accel %.3f m/s^2)",
                   bg, ba);
-    setAside(ImuStatus::kDisagrees,
-             std::string(buf) + ": a wrong gravity, extrinsic or clock offset? Give imu_gravity_world", cursor_.t_ns,
-             true);
+    setAside(ImuStatus::kDisagrees, std::string(buf) + ": a wrong extrinsic, clock offset or imu_gravity_world?",
+             cursor_.t_ns, true);
     return;
   }
+  if (ba > kBiasSigmas * params_.initial_accel_bias_sigma && ekf_.usesAccelerometer())
+  {
+    // A confirmed estimated gravity that the accelerometer bias has to make up for after all.
+    ekf_.start(state.pose, cursor_.sample.accel, ImuEkf::Keep::kGyroBias);
+    rejectGravity(ba);
+  }
+  checkGravity(state);
   const bool agrees = !rejected && nis_mean_ < kAgreeNis;
   if (trusted_ && !agrees)
   {
@@ -283,11 +317,16 @@ void ImuPropagator::updateWithVision(EstimatorState& state)
   if (!trusted_)
   {
     if (rejected)
-      ekf_.start(state.pose, cursor_.sample.accel, true);  // follow the vision
+    {
+      // Follow the vision.
+      ekf_.start(state.pose, cursor_.sample.accel, ImuEkf::Keep::kAll);
+      if (checking_gravity_)
+        gravity_check_.start(state.pose, cursor_.sample.accel, ImuEkf::Keep::kAll);
+    }
     if (agrees && updates_since_restart_ >= kTrustUpdates)
     {
       trusted_ = true;
-      setStatus(ImuStatus::kOk, "");
+      setFusedStatus();
     }
     else if (cursor_.t_ns - checking_since_ns_ > kMaxCheckingNs)
     {
@@ -305,6 +344,59 @@ void ImuPropagator::updateWithVision(EstimatorState& state)
   const Vector6d d = cameraIncrementBetween(state.pose, ekf_.cameraPose());
   state.pose.applyCameraIncrement(d);
   state.x_accumulated += d;
+}
+
+void ImuPropagator::setFusedStatus()
+{
+  if (gyro_only_)
+    setStatus(ImuStatus::kGyroOnly, gyro_only_reason_);
+  else if (checking_gravity_)
+    setStatus(ImuStatus::kGyroOnly, kCheckingGravity);
+  else
+    setStatus(ImuStatus::kOk, "");
+}
+
+void ImuPropagator::rejectGravity(double accel_bias)
+{
+  checking_gravity_ = false;
+  gravity_checked_ = false;
+  gyro_only_ = true;
+  ekf_.useAccelerometer(false);
+  char buf[96];
+  std::snprintf(buf, sizeof buf, "the estimated gravity made the accelerometer bias implausible (%.3f m/s^2)", accel_bias);
+  gyro_only_reason_ = std::string(buf) + ": gyroscope only until the next start (give imu_gravity_world)";
+  if (trusted_)
+    setFusedStatus();
+}
+
+void ImuPropagator::checkGravity(const EstimatorState& state)
+{
+  if (!checking_gravity_)
+    return;
+  gravity_cursor_.meanTo(gravity_check_, cursor_.t_ns);
+  gravity_cursor_.flushCovariance(gravity_check_);
+  const double chi2 =
+      gravity_check_.updateCameraPose(state.pose, vision_covariance_ * params_.vision_covariance_scale, kGate);
+  const double ba = gravity_check_.accelBias().norm();
+  if (ba > kBiasSigmas * params_.initial_accel_bias_sigma)
+  {
+    // The accelerometer bias has to make up for the gravity: it started from a specific force
+    // that was not at rest (the camera accelerating), and the vision (at range, over a fraction
+    // of a second) cannot tell a tilted gravity from its own slowly varying error. The gyroscope
+    // is sound: the tracker's filter keeps running without the accelerometer until the next start.
+    rejectGravity(ba);
+    return;
+  }
+  if (chi2 <= kGate && cursor_.t_ns - started_ns_ >= gravity_check_ns_ &&
+      ba <= kCheckedBiasSigmas * params_.initial_accel_bias_sigma)
+  {
+    // Confirmed: the tracker's filter continues as the one with the accelerometer.
+    ekf_ = gravity_check_;
+    checking_gravity_ = false;
+    gravity_checked_ = true;
+    if (trusted_)
+      setFusedStatus();
+  }
 }
 
 void ImuPropagator::propagate(EstimatorState& state, int64_t t_ns)
@@ -351,7 +443,7 @@ void ImuPropagator::propagate(EstimatorState& state, int64_t t_ns)
 
 bool ImuPropagator::odometry(int64_t t_ns, ImuOdometry& out) const
 {
-  if (!tracking_ || status_ != ImuStatus::kOk)
+  if (!tracking_ || !isFused(status_))
     return false;
   // A copy of the filter, carried through the samples not yet consumed (an event-free gap) to t.
   ImuEkf f = ekf_;

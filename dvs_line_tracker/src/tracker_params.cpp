@@ -103,6 +103,8 @@ dvs_driver::ParamTable trackerParamTable(LineTrackerParams& p, std::string& solv
   t.add("imu_initial_accel_bias_sigma", p.imu.initial_accel_bias_sigma, "m/s^2", 0, 10, "prior 1-sigma of the accelerometer bias").min_exclusive = true;
   t.add("imu_initial_velocity_sigma", p.imu.initial_velocity_sigma, "m/s", 0, 100, "velocity prior when tracking starts").min_exclusive = true;
   t.add("imu_initial_gravity_sigma", p.imu.initial_gravity_sigma, "m/s^2", 0, 10, "prior of an estimated gravity, per axis").min_exclusive = true;
+  t.add("imu_gravity_check", p.imu.gravity_check_s, "s", 0, 60,
+        "an estimated gravity is checked this long (accelerometer bias plausible) before the accelerometer moves the pose");
   t.add("imu_update_period", p.imu.update_period_s, "s", 1e-5, 1, "the vision pose corrects the filter this often");
   t.add("imu_vision_covariance_scale", p.imu.vision_covariance_scale, "", 0, 1e9,
         "the vision's covariance is this x its Gauss-Newton estimate (overlapping buffers, errors not white)").min_exclusive = true;

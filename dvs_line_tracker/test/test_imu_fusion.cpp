@@ -92,14 +92,42 @@ TEST(ImuFusion, SquareOnTheFloor)
   EXPECT_EQ(k.imu_status, ImuStatus::kOk) << k.imu_message;
   EXPECT_EQ(k.stats.losses, 0u);
   EXPECT_LT(k.all.rms_position_m, 0.8 * v.all.rms_position_m);
-  // Estimated: the filter explains the wrong gravity with biases beyond their prior; the
-  // plausibility check sets the IMU aside (vision alone) and says why. Known limitation: the
-  // error before that (BENCHMARKS.md): 4.0 cm RMS instead of 2.9 without IMU on this sequence.
+  // Estimated: the gravity started from the accelerating camera's specific force is 5 deg off;
+  // the check rejects it (the accelerometer bias would have to make up for it), says so, and the
+  // IMU goes on without the accelerometer: still better than vision alone (BENCHMARKS.md: 1.8 cm
+  // instead of 2.9; 4.0 when the wrong gravity moved the pose).
   const Result e = track(&kUnchanged, 0, 0, floor);
-  EXPECT_EQ(e.imu_status, ImuStatus::kDisagrees) << e.imu_message;
+  EXPECT_EQ(e.imu_status, ImuStatus::kGyroOnly) << e.imu_message;
   EXPECT_NE(e.imu_message.find("imu_gravity_world"), std::string::npos) << e.imu_message;
   EXPECT_EQ(e.stats.losses, 0u);
-  EXPECT_LT(e.all.rms_position_m, 2.0 * v.all.rms_position_m);
+  EXPECT_LT(e.all.rms_position_m, 0.85 * v.all.rms_position_m)
+      << "estimated gravity " << e.all.rms_position_m << " m, vision alone " << v.all.rms_position_m << " m";
+}
+
+TEST(ImuFusion, EstimatedGravityIsConfirmedOnTheWall)
+{
+  // The wall flip starts with its acceleration along gravity: the check confirms the estimate
+  // and the accelerometer is used from then on.
+  const Result m = track(&kUnchanged);
+  EXPECT_EQ(m.imu_status, ImuStatus::kOk) << m.imu_message;
+  EXPECT_LT((m.gravity - Eigen::Vector3d(0, -9.81, 0)).norm(), 0.3) << m.gravity.transpose();
+}
+
+TEST(ImuFusion, BlackoutWhileTheGravityIsCheckedIsBridgedWithoutTheAccelerometer)
+{
+  // The check outlasts the sequence: through the blackout the gyroscope and the constant-velocity
+  // position carry the pose (BENCHMARKS.md: 5-9 cm after it instead of 0.3-3 with the
+  // accelerometer), without a loss.
+  LineTrackerParams params;
+  params.imu.gravity_check_s = 10;
+  const Result m = track(&kUnchanged, 0.675, 0.15, flip(), params);
+  EXPECT_EQ(m.imu_status, ImuStatus::kGyroOnly) << m.imu_message;
+  EXPECT_EQ(m.stats.losses, 0u);
+  EXPECT_EQ(m.stats.reinitializations, 0u);
+  EXPECT_EQ(m.stats.gaps_bridged, 1u);
+  ASSERT_GE(m.after_gap_position_m, 0) << "not tracking right after the blackout";
+  EXPECT_LT(m.after_gap_position_m, 0.15);
+  EXPECT_LT(m.after_gap_orientation_rad, 2.0 * M_PI / 180);
 }
 
 TEST(ImuFusion, KnownGravityIsUsedAsGiven)
@@ -187,7 +215,7 @@ TEST(ImuEkf, KnownMotionWithPerfectMeasurementsFindsTheBiases)
   Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
   Eigen::Vector3d p(0, 0, -2), v(0, 0, 0);
   auto pose = [&] { return Pose::fromWorldCamera(R, p); };
-  ekf.start(pose(), R.transpose() * (a_world - g) + ba, false);
+  ekf.start(pose(), R.transpose() * (a_world - g) + ba, ImuEkf::Keep::kNothing);
   const double dt = 1e-3;
   Matrix6d cov = Matrix6d::Identity() * 1e-8;
   for (int k = 0; k < 5000; ++k)
@@ -204,6 +232,53 @@ TEST(ImuEkf, KnownMotionWithPerfectMeasurementsFindsTheBiases)
   EXPECT_LT((ekf.accelBias() - ba).norm(), 0.01);
   EXPECT_LT((ekf.gravity() - g).norm(), 0.01);
   EXPECT_LT((ekf.velocity() - v).norm(), 0.01);
+}
+
+TEST(ImuEkf, WithoutTheAccelerometerAWrongGravityReachesNeitherTheOrientationNorTheGyroBias)
+{
+  // A camera turning at a constant rate and moving at a constant velocity, observed exactly;
+  // the accelerometer reads a specific force 1 m/s^2 off (a tilted gravity). Without the
+  // accelerometer the filter tracks the velocity and the gyroscope bias as if it were not there.
+  ImuFusionParams params;
+  ImuExtrinsics x;
+  ASSERT_EQ(parseImuExtrinsics(params, x), "");
+  for (const bool use : {true, false})
+  {
+    SCOPED_TRACE(use ? "with the accelerometer" : "without");
+    ImuEkf ekf(params, x);
+    const Eigen::Vector3d g(0, -9.81, 0), w(0.4, -0.3, 1.2), v(0.5, -0.2, 0.3), bg(0.008, -0.005, 0.003);
+    const Eigen::Vector3d wrong(1.0, 0, 0);  // world frame
+    Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+    Eigen::Vector3d p(0, 0, -2);
+    auto pose = [&] { return Pose::fromWorldCamera(R, p); };
+    ekf.start(pose(), -R.transpose() * g, ImuEkf::Keep::kNothing);
+    ekf.useAccelerometer(use);
+    EXPECT_EQ(ekf.usesAccelerometer(), use);
+    const double dt = 1e-3;
+    const Matrix6d cov = Matrix6d::Identity() * 1e-6;
+    double worst_rotation = 0;
+    for (int k = 0; k < 3000; ++k)
+    {
+      const Eigen::Vector3d gyro = w + bg, accel = R.transpose() * (wrong - g);
+      ekf.propagateMean(gyro, accel, dt);
+      ekf.propagateCovariance(gyro, accel, dt);
+      p += v * dt;
+      R = R * Eigen::AngleAxisd(w.norm() * dt, w.normalized()).toRotationMatrix();
+      ekf.updateCameraPose(pose(), cov, 1e12);
+      if (k > 500)
+        worst_rotation = std::max(worst_rotation, orientationError(ekf.cameraPose(), pose()));
+    }
+    if (use)
+    {
+      // The filter explains the wrong force with its accelerometer bias and gravity.
+      EXPECT_GT(ekf.accelBias().norm() + (ekf.gravity() - g).norm(), 0.5);
+      continue;
+    }
+    EXPECT_LT((ekf.gyroBias() - bg).norm(), 1e-3);
+    EXPECT_LT((ekf.velocity() - v).norm(), 0.01);
+    EXPECT_LT(worst_rotation, 2e-3);
+    EXPECT_EQ(ekf.accelBias(), Eigen::Vector3d::Zero());
+  }
 }
 
 TEST(ImuEkf, CameraIncrementBetweenTwoPosesIsExact)

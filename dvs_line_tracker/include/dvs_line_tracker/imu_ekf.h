@@ -36,10 +36,25 @@ public:
 
   ImuEkf(const ImuFusionParams& params, const ImuExtrinsics& extrinsics);
 
+  /// What a (re)start keeps of what the filter learned.
+  enum class Keep
+  {
+    kNothing,   ///< biases zero, an estimated gravity from `accel`
+    kGyroBias,  ///< the gyroscope bias; accelerometer bias and an estimated gravity start again
+    kAll,       ///< biases and an estimated gravity
+  };
   /// Start from the camera pose `T_world_camera` at rest-or-unknown velocity (zero, with the prior
-  /// sigma). `accel` (IMU axes) starts an estimated gravity (against the specific force) the first
-  /// time; biases and an estimated gravity are kept across restarts when `keep_learned`.
-  void start(const Pose& T_world_camera, const Eigen::Vector3d& accel, bool keep_learned);
+  /// sigma). `accel` (IMU axes, the specific force) starts an estimated gravity against it when
+  /// it is not kept.
+  void start(const Pose& T_world_camera, const Eigen::Vector3d& accel, Keep keep);
+
+  /// Without the accelerometer the translation follows a constant-velocity model (white
+  /// acceleration, kUnmodelledAccelDensity): the position and velocity only follow the camera
+  /// pose measurements, and nothing of the specific force reaches the orientation or the gyroscope
+  /// bias. For an accelerometer side that cannot be trusted (an implausible estimated gravity).
+  void useAccelerometer(bool use) { use_accelerometer_ = use; }
+  bool usesAccelerometer() const { return use_accelerometer_; }
+  static constexpr double kUnmodelledAccelDensity = 5.0;  ///< m/s^2/sqrt(Hz)
 
   /// Nominal state over dt [s] with the samples held (per event: cheap, no covariance).
   void propagateMean(const Eigen::Vector3d& gyro, const Eigen::Vector3d& accel, double dt);
@@ -75,13 +90,14 @@ public:
 private:
   void inject(const VectorNd& dx);
 
-  const ImuFusionParams& params_;
-  const ImuExtrinsics& x_;
+  const ImuFusionParams* params_;  // pointers, not references: filters are assigned (ImuPropagator's gravity check)
+  const ImuExtrinsics* x_;
   Eigen::Matrix3d R_imu_camera_;
   Eigen::Vector3d p_imu_camera_;  ///< camera centre in IMU axes
   Eigen::Quaterniond q_;          ///< q_world_imu
   Eigen::Vector3d p_, v_, bg_, ba_, g_;
   MatrixNd P_;
+  bool use_accelerometer_ = true;
   bool started_ = false;
 };
 

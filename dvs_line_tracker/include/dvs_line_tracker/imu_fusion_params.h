@@ -30,6 +30,12 @@ struct ImuFusionParams
   double initial_accel_bias_sigma = 0.05;  ///< m/s^2, prior 1-sigma of the accelerometer bias
   double initial_velocity_sigma = 1.0;     ///< m/s, velocity prior when tracking starts
   double initial_gravity_sigma = 0.5;      ///< m/s^2 per axis, when gravity is estimated
+  /// An estimated gravity starts from the specific force of the last 0.2 s, which is tilted when
+  /// the camera was accelerating then. Until a second filter with the accelerometer has run this
+  /// long with plausible biases (within 2x their prior), the tracker's filter runs without the
+  /// accelerometer (gyroscope, constant-velocity position); biases beyond 4x their prior reject
+  /// the gravity (gyroscope only until the next start).
+  double gravity_check_s = 0.5;
   double update_period_s = 0.001;          ///< vision pose -> filter update period (event time)
   /// The vision pose's covariance is this times the Gauss-Newton estimate (residual variance x
   /// inverse information of the buffered events): the buffers overlap from one update to the

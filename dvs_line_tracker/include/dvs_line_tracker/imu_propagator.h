@@ -11,7 +11,15 @@
 //  - after every (re)start the filter first runs beside the vision without moving its pose, and
 //    is used only once its predictions have agreed with the vision for 50 updates (and again
 //    whenever they stop agreeing); disagreeing for 2 s, or biases beyond 4x their prior sigma,
-//    set it aside for 2 s.
+//    set it aside for 2 s;
+//  - an estimated gravity (started from the specific force of the last 0.2 s, tilted when the
+//    camera was accelerating) is checked first: for `gravity_check` a second filter with the
+//    accelerometer runs beside the tracker's, which meanwhile uses the gyroscope and a
+//    constant-velocity position (as accurate on the flips; only a blackout needs the
+//    accelerometer). Plausible biases confirm the gravity and the tracker's filter continues as
+//    the second one; an accelerometer bias beyond 4x its prior rejects it: gyroscope only
+//    (GYRO_ONLY) until the next start. At range the vision cannot tell a tilted gravity from its
+//    own slowly varying error, so an unchecked wrong gravity would make tracking worse.
 // Health: the IMU is used only while its stream is fresh (newest sample within `max_latency` of
 // the event), plausible (finite, within the rate / force limits, no stuck axis, an accelerometer
 // in m/s^2) and in agreement with the vision (the filter's innovations); otherwise the tracker
@@ -32,13 +40,16 @@ enum class ImuStatus
   kWaiting,    ///< no sample yet, or tracking has not started
   kChecking,   ///< filtered beside the vision, not used until its predictions agree with it
   kOk,         ///< fused
+  kGyroOnly,   ///< fused without the accelerometer: an estimated gravity being checked, or rejected (gravityRejected())
   kLate,       ///< the newest sample is older than max_latency at the events (missing or late stream)
   kAbsurd,     ///< implausible samples (limits, stuck axis, units)
   kDisagrees,  ///< the filter kept disagreeing with the vision: vision alone for a while
 };
 const char* toString(ImuStatus status);
+/// The filter moves the tracker's pose (all of it, or its orientation).
+inline bool isFused(ImuStatus s) { return s == ImuStatus::kOk || s == ImuStatus::kGyroOnly; }
 /// The filter runs (fused, or checked before it is fused): event packets wait for its samples.
-inline bool isEngaged(ImuStatus s) { return s == ImuStatus::kOk || s == ImuStatus::kChecking; }
+inline bool isEngaged(ImuStatus s) { return isFused(s) || s == ImuStatus::kChecking; }
 /// An IMU stream is there but set aside (late, absurd, disagreeing): the operator must be told.
 inline bool isSetAside(ImuStatus s) { return !isEngaged(s) && s != ImuStatus::kWaiting; }
 
@@ -89,7 +100,9 @@ public:
   /// The filter's estimate predicted to t_ns (>= the last event's time); false while not fused.
   bool odometry(int64_t t_ns, ImuOdometry& out) const;
   ImuStatus status() const { return status_; }
-  /// Why the IMU is not fused ("" when it is).
+  /// The estimated gravity was rejected: gyroscope only until the next start (a fault to report).
+  bool gravityRejected() const { return gyro_only_; }
+  /// Why the IMU is not (fully) fused ("" when it is).
   const std::string& statusMessage() const { return message_; }
   const ImuFusionStats& stats() const { return stats_; }
   const ImuEkf& filter() const { return ekf_; }
@@ -118,6 +131,13 @@ private:
   void setAside(ImuStatus s, const std::string& message, int64_t t_ns, bool forget = false);
   void advanceTo(int64_t t_ns);
   void updateWithVision(EstimatorState& state);
+  bool gravityEstimated() const { return !extrinsics_.gravity_world; }
+  void setFusedStatus();
+  /// While an estimated gravity is checked: the checking filter's vision update, then confirmed
+  /// (ekf_ continues with the accelerometer) or rejected (gyroscope only until the next start).
+  void checkGravity(const EstimatorState& state);
+  /// The estimated gravity is wrong: gyroscope only until the next start, said why.
+  void rejectGravity(double accel_bias);
   bool plausible(const Sample& s);
 
   ImuFusionParams params_;
@@ -130,12 +150,19 @@ private:
   int64_t t_last_update_ = 0, newest_ns_ = INT64_MIN, previous_event_ns_ = 0;
   double sample_period_s_ = 1e-3;  ///< the latest interval between samples
   Matrix6d vision_covariance_ = Matrix6d::Zero();  ///< the latest Gauss-Newton covariance (unscaled)
-  int64_t max_latency_ns_, max_bridge_ns_, update_period_ns_, time_offset_ns_;
+  int64_t max_latency_ns_, max_bridge_ns_, update_period_ns_, time_offset_ns_, gravity_check_ns_;
   ImuStatus status_ = ImuStatus::kWaiting;
   std::string message_ = "no IMU sample yet";
   int64_t distrust_until_ns_ = INT64_MIN;  ///< absurd / disagreeing: not fused before this
   bool trusted_ = false;       ///< agrees with the vision: moves the tracker's pose
   bool forget_learned_ = false;  ///< the next start forgets biases and gravity (they went implausible)
+  bool gyro_only_ = false;     ///< the accelerometer does not move the tracker (until the next start)
+  bool checking_gravity_ = false;  ///< an estimated gravity being checked (gravity_check_): orientation only
+  bool gravity_checked_ = false;   ///< the estimated gravity was confirmed (kept across restarts)
+  ImuEkf gravity_check_;           ///< with the accelerometer, beside ekf_ while checking the gravity
+  Cursor gravity_cursor_;
+  int64_t started_ns_ = 0;
+  std::string gyro_only_reason_;
   double nis_mean_ = 0;        ///< running mean of the scaled normalised innovations squared
   uint64_t updates_since_restart_ = 0;
   int64_t checking_since_ns_ = 0;

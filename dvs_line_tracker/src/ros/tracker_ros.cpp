@@ -326,6 +326,10 @@ void TrackerRos::reportInputProblems()
     reported_imu_message_ = imu_->statusMessage();
     if (imu_->status() == ImuStatus::kOk)
       ROS_INFO("dvs_line_tracker: IMU fused");
+    else if (imu_->gravityRejected())
+      ROS_WARN("dvs_line_tracker: IMU fused without the accelerometer: %s", reported_imu_message_.c_str());
+    else if (imu_->status() == ImuStatus::kGyroOnly)
+      ROS_INFO("dvs_line_tracker: IMU fused, %s", reported_imu_message_.c_str());
     else if (isSetAside(imu_->status()))
       ROS_WARN("dvs_line_tracker: IMU not used, vision alone (%s): %s", toString(imu_->status()),
                reported_imu_message_.c_str());
@@ -489,6 +493,8 @@ void TrackerRos::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat)
     // An IMU stream that is there but not used is a fault the operator must see.
     if (imu_messages_ > 0 && isSetAside(imu_->status()))
       stat.mergeSummary(diagnostic_msgs::DiagnosticStatus::WARN, std::string("IMU not used: ") + imu_->statusMessage());
+    else if (imu_->gravityRejected())
+      stat.mergeSummary(diagnostic_msgs::DiagnosticStatus::WARN, std::string("IMU partly used: ") + imu_->statusMessage());
   }
   events_since_diag_ = updates_since_diag_ = 0;
 }
