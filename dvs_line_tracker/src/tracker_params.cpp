@@ -152,6 +152,11 @@ dvs_driver::ParamTable nodeParamTable(TrackerNodeSettings& n)
   t.add("p_body_camera", n.p_body_camera, {}, "the camera's origin in the body frame 'x y z' [m]");
   t.add("output_rate", n.output_rate_hz, "Hz", 0, 10000,
         "`~odometry` at this fixed rate, predicted to the publish time (0: once per event packet)");
+  t.add("overload_latency", n.overload_latency_s, "s", 0, 10,
+        "queued event packets are worked off within this, tracking every k-th event when the tracker falls behind "
+        "(counted in diagnostics; 0: every event, whatever the latency)");
+  t.add("max_queued_events", n.max_queued_events, "events", 1000, 1000000000,
+        "beyond, the oldest queued packets are dropped (counted in diagnostics)");
   t.addRule([&n]() -> std::string {
     return n.world_frame.empty() || n.camera_frame.empty() ? "world_frame and camera_frame must not be empty" : "";
   });

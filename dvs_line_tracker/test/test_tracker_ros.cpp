@@ -3,6 +3,7 @@
 // Checks per-event poses against ground truth, the batched poses, TF world -> dvs, the state
 // topic, the diagnostics, and ~odometry (frames, rate, covariances, the body pose).
 #include <diagnostic_msgs/DiagnosticArray.h>
+#include <dvs_calibration/camera_info_conversions.h>
 #include <dvs_driver/event_bag_io.h>
 #include <dvs_line_tracker/pose_types.h>
 #include <dvs_screen_sim/dataset.h>
@@ -112,15 +113,7 @@ TEST(TrackerRos, TracksASimulatedBag)
       [&](const ros::SingleSubscriberPublisher&) { ++info_disconnects; }, ros::VoidConstPtr(), true);
   ros::Publisher events_pub = nh.advertise<dvs_msgs::EventArray>("/dvs/events", 2000);
   ros::Publisher imu_pub = nh.advertise<sensor_msgs::Imu>("/dvs/imu", 2000);
-  sensor_msgs::CameraInfo info;
-  const auto& k = config.camera.intrinsics();
-  info.width = k.width;
-  info.height = k.height;
-  info.distortion_model = "plumb_bob";
-  info.D = {k.k1, k.k2, k.p1, k.p2, k.k3};
-  info.K = {k.fx, 0, k.cx, 0, k.fy, k.cy, 0, 0, 1};
-  info.header.frame_id = "dvs";
-  info_pub.publish(info);
+  info_pub.publish(dvs_calibration::toCameraInfoMsg(config.camera, "dvs"));
   const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(30.0);
   while ((events_pub.getNumSubscribers() == 0 || imu_pub.getNumSubscribers() == 0 || pose_sub.getNumPublishers() == 0 ||
           poses_sub.getNumPublishers() == 0 || odometry_sub.getNumPublishers() == 0) &&
@@ -168,10 +161,20 @@ TEST(TrackerRos, TracksASimulatedBag)
     return !rx.poses.empty() && !rx.batched_stamps.empty() && !rx.diagnostics.empty() &&
            rx.poses.back().header.stamp == rx.batched_stamps.back() &&
            rx.batched_stamps.back() >= last_event - ros::Duration(0.05) && !rx.states.empty() &&
-           rx.diagnostics.back().message == rx.states.back();
+           rx.diagnostics.back().message.rfind(rx.states.back(), 0) == 0;
   };
   const ros::WallTime done_deadline = ros::WallTime::now() + ros::WallDuration(30.0);
   while (!caught_up() && ros::WallTime::now() < done_deadline)
+    ros::WallDuration(0.02).sleep();
+  // Then one more diagnostics message (1 Hz), so that the last one describes the end of the run
+  // and not a moment before it.
+  const auto diagnostics_count = [&] {
+    std::lock_guard<std::mutex> l(rx.m);
+    return rx.diagnostics.size();
+  };
+  const size_t diagnostics_at_end = diagnostics_count();
+  const ros::WallTime diagnostics_deadline = ros::WallTime::now() + ros::WallDuration(3.0);
+  while (diagnostics_count() == diagnostics_at_end && ros::WallTime::now() < diagnostics_deadline)
     ros::WallDuration(0.02).sleep();
 
   // 4. Checks.
@@ -214,15 +217,25 @@ TEST(TrackerRos, TracksASimulatedBag)
   EXPECT_EQ(rx.states.back(), "TRACKING");
   // Diagnostics report the state.
   ASSERT_FALSE(rx.diagnostics.empty());
-  EXPECT_EQ(rx.diagnostics.back().message, "TRACKING");
-  EXPECT_EQ(rx.diagnostics.back().level, diagnostic_msgs::DiagnosticStatus::OK);
+  // The summary starts with the state; a WARN only for events skipped to keep the latency (the
+  // tracker publishing 100,000 per-event poses/s to this test at the flip's peak may fall behind
+  // for a few packets; BENCHMARKS.md).
+  const auto& last = rx.diagnostics.back();
+  EXPECT_EQ(last.message.rfind("TRACKING", 0), 0u) << last.message;
+  if (last.level != diagnostic_msgs::DiagnosticStatus::OK)
+    EXPECT_NE(last.message.find("falling behind"), std::string::npos) << last.message;
   // Named after the tracker, not after the process (a nodelet manager).
   for (const auto& name : rx.diagnostic_names)
     EXPECT_EQ(name.rfind("dvs_line_tracker: ", 0), 0u) << name;
-  bool imu_ok = false;
+  std::string imu_status = "(none)", imu_message;
   for (const auto& kv : rx.diagnostics.back().values)
-    imu_ok |= kv.key == "IMU status" && kv.value == "OK";
-  EXPECT_TRUE(imu_ok) << "the IMU is not fused at the end";
+  {
+    if (kv.key == "IMU status")
+      imu_status = kv.value;
+    if (kv.key == "IMU message")
+      imu_message = kv.value;
+  }
+  EXPECT_EQ(imu_status, "OK") << "the IMU is not fused at the end: " << imu_message;
 
   // ~odometry: world -> base_link (tracker_*.test: the camera 0.1 m ahead of the body, rolled by
   // 90 deg), at ~output_rate (200 Hz), stamps never going back, covariances symmetric positive definite, the body pose

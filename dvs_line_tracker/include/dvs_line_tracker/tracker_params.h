@@ -100,6 +100,10 @@ struct TrackerNodeSettings
   std::string q_body_camera = "0 0 0 1";  ///< R_body_camera "x y z w" (camera axes -> body axes)
   std::string p_body_camera = "0 0 0";    ///< the camera's origin in the body frame "x y z" [m]
   double output_rate_hz = 0.0;     ///< ~odometry at this fixed rate, predicted to the publish time (0: once per event packet)
+  /// Overload (OverloadGovernor): queued packets are worked off within this, tracking every
+  /// k-th event when needed (0: every event, whatever the latency).
+  double overload_latency_s = 0.05;
+  int max_queued_events = 4000000;  ///< beyond, the oldest queued packets are dropped (counted)
 };
 /// The node's settings as a table (the ROS node reads this merged with trackerParamTable).
 dvs_driver::ParamTable nodeParamTable(TrackerNodeSettings& settings);

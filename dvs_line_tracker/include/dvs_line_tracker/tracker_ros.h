@@ -6,6 +6,7 @@
 #include <dvs_line_tracker/body_odometry.h>
 #include <dvs_line_tracker/imu_propagator.h>
 #include <dvs_line_tracker/line_tracker.h>
+#include <dvs_line_tracker/overload_governor.h>
 #include <dvs_line_tracker/tracker_params.h>
 #include <dvs_msgs/EventArray.h>
 #include <image_transport/image_transport.h>
@@ -15,10 +16,13 @@
 #include <sensor_msgs/Imu.h>
 #include <tf2_ros/transform_broadcaster.h>
 
+#include <atomic>
+#include <condition_variable>
 #include <deque>
 #include <memory>
 #include <mutex>
 #include <string>
+#include <thread>
 
 namespace dvs_line_tracker
 {
@@ -34,10 +38,14 @@ private:
   void onCameraInfo(const sensor_msgs::CameraInfoConstPtr& msg);
   void onEvents(const dvs_msgs::EventArrayConstPtr& msg);
   void onImu(const sensor_msgs::ImuConstPtr& msg);
-  /// Track the waiting packets whose IMU samples are in (or whose IMU is late). Takes the lock
-  /// per packet: call it without holding it.
-  void processPending();
-  void processPacket(const dvs_msgs::EventArrayConstPtr& msg);
+  /// The tracking thread: takes the queued packets in order (each when its IMU samples are in)
+  /// and tracks them, every event or every k-th when it falls behind (OverloadGovernor). The
+  /// callbacks only queue, so the backlog is visible here rather than in ROS's queue.
+  void trackingLoop();
+  /// Under both locks: the next packet to track (false: none, or it waits for its IMU samples).
+  bool nextPacket(dvs_msgs::EventArrayConstPtr& msg);
+  /// Track every `stride`-th event of the packet; returns the events given to the tracker.
+  size_t processPacket(const dvs_msgs::EventArrayConstPtr& msg, int stride);
   void onOutputTimer(const ros::TimerEvent& ev);
   /// ~odometry at t_ns (the IMU filter predicted to it, or the vision's pose); nothing before tracking.
   void publishOdometry(int64_t t_ns);
@@ -47,6 +55,7 @@ private:
   void publishImage(const dvs_msgs::EventArray& msg);
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat);
   void reportInputProblems();
+  void reportOverload();
 
   ros::NodeHandle nh_, pnh_;
   LineTrackerParams params_;
@@ -62,7 +71,20 @@ private:
     dvs_msgs::EventArrayConstPtr msg;
     ros::WallTime arrival;
   };
-  std::deque<PendingPacket> pending_;  ///< event packets waiting for their IMU samples
+  // The queue has its own lock, never held for long: the callbacks only queue (they would
+  // otherwise wait behind a packet being tracked and the backlog would pile up unseen in ROS's
+  // subscriber queue). Lock order: mutex_, then queue_mutex_.
+  std::mutex queue_mutex_;
+  std::condition_variable wake_;       ///< a packet or an IMU sample came, or stop (with queue_mutex_)
+  std::deque<PendingPacket> pending_;  ///< event packets queued for the tracking thread
+  size_t pending_events_ = 0;          ///< events in pending_
+  bool stopping_ = false;
+  std::atomic<bool> tracker_ready_{false};
+  OverloadGovernor overload_;          ///< with queue_mutex_
+  uint64_t stride_phase_ = 0;          ///< which events a stride keeps, continued across packets
+  double queue_wait_max_s_ = 0;        ///< longest wait of a packet in the queue since the last diagnostics
+  uint64_t skipped_reported_ = 0, dropped_reported_ = 0, skipped_at_diag_ = 0, dropped_at_diag_ = 0;
+  std::thread tracking_thread_;
   uint64_t imu_messages_ = 0, reported_imu_fallbacks_ = 0;
   std::string reported_imu_message_;
 
@@ -71,7 +93,6 @@ private:
   ros::CallbackQueue output_queue_;  ///< ~output_rate's timer runs in its own thread
   std::unique_ptr<ros::AsyncSpinner> output_spinner_;
   ros::Timer output_timer_;
-  ros::WallTimer pending_timer_;
   image_transport::Publisher image_pub_;
   tf2_ros::TransformBroadcaster tf_;
   diagnostic_updater::Updater diagnostics_;

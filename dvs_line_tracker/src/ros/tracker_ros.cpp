@@ -76,12 +76,12 @@ TrackerRos::TrackerRos(ros::NodeHandle nh, ros::NodeHandle pnh)
     camera_info_sub_ = nh_.subscribe("dvs/camera_info", 1, &TrackerRos::onCameraInfo, this);
   events_sub_ = nh_.subscribe("dvs/events", 1000, &TrackerRos::onEvents, this, ros::TransportHints().tcpNoDelay());
   if (settings_.use_imu)
-  {
     imu_sub_ = nh_.subscribe("dvs/imu", 1000, &TrackerRos::onImu, this, ros::TransportHints().tcpNoDelay());
-    // Packets waiting for IMU samples when the events stop are tracked after 1 s.
-    pending_timer_ = nh_.createWallTimer(ros::WallDuration(0.25),
-                                         [this](const ros::WallTimerEvent&) { processPending(); });
-  }
+  OverloadParams overload;
+  overload.max_latency_s = settings_.overload_latency_s;
+  overload.max_queued_events = static_cast<size_t>(settings_.max_queued_events);
+  overload_ = OverloadGovernor(overload);
+  tracking_thread_ = std::thread(&TrackerRos::trackingLoop, this);
   if (settings_.output_rate_hz > 0)
   {
     // Its own queue and thread: a steady stream, not queued behind the event packets' callbacks.
@@ -102,6 +102,13 @@ TrackerRos::~TrackerRos()
   output_timer_.stop();
   if (output_spinner_)
     output_spinner_->stop();
+  {
+    std::lock_guard<std::mutex> lock(queue_mutex_);
+    stopping_ = true;
+  }
+  wake_.notify_all();
+  if (tracking_thread_.joinable())
+    tracking_thread_.join();
 }
 
 void TrackerRos::startTracker(const dvs_calibration::CameraModel& camera)
@@ -112,6 +119,7 @@ void TrackerRos::startTracker(const dvs_calibration::CameraModel& camera)
     imu_ = std::make_shared<ImuPropagator>(params_.imu);
     tracker_->setPropagator(imu_);
   }
+  tracker_ready_ = true;
   ROS_INFO("dvs_line_tracker: tracking %zu segments (%zu polygons) with a %dx%d camera", map_.segments.size(),
            map_.polygons.size(), camera.width(), camera.height());
 }
@@ -141,7 +149,10 @@ void TrackerRos::onImu(const sensor_msgs::ImuConstPtr& msg)
       return;
     imu_->addSample(dvs_driver::fromImuMessage(*msg));
   }
-  processPending();
+  {
+    std::lock_guard<std::mutex> q(queue_mutex_);  // no wake-up lost between the check and the wait
+  }
+  wake_.notify_one();
 }
 
 void TrackerRos::onOutputTimer(const ros::TimerEvent&)
@@ -201,51 +212,88 @@ void TrackerRos::publishOdometry(int64_t t_ns)
 
 void TrackerRos::onEvents(const dvs_msgs::EventArrayConstPtr& msg)
 {
+  if (!tracker_ready_.load())
   {
-    std::lock_guard<std::recursive_mutex> lock(mutex_);
-    if (!tracker_)
-    {
-      ROS_WARN_THROTTLE(5.0, "dvs_line_tracker: no camera calibration yet (waiting for dvs/camera_info): events dropped");
-      return;
-    }
-    pending_.push_back({msg, ros::WallTime::now()});
+    ROS_WARN_THROTTLE(5.0, "dvs_line_tracker: no camera calibration yet (waiting for dvs/camera_info): events dropped");
+    return;
   }
-  processPending();
+  {
+    std::lock_guard<std::mutex> q(queue_mutex_);
+    pending_.push_back({msg, ros::WallTime::now()});
+    pending_events_ += msg->events.size();
+    // Memory stays bounded whatever comes in: the oldest packets go first (counted, warned).
+    while (pending_.size() > 1 && overload_.overQueueLimit(pending_events_))
+    {
+      const size_t n = pending_.front().msg->events.size();
+      overload_.dropped(n);
+      pending_events_ -= n;
+      pending_.pop_front();
+    }
+  }
+  wake_.notify_one();
 }
 
-void TrackerRos::processPending()
+bool TrackerRos::nextPacket(dvs_msgs::EventArrayConstPtr& msg)
 {
   // Events and IMU samples come on two topics, and either may arrive first: while the IMU is
   // used, a packet waits until the IMU has reached its last event, so that the IMU carries the
   // pose to each event with the samples of its time. It waits in data time (the packets behind
   // it reach imu_max_latency past the newest IMU sample: the IMU is late), not wall time (a
   // tracker behind real time would find every sample late), and at most 1 s of wall time (the
-  // event stream stopped). The lock is taken per packet, so that ~output_rate's thread gets in
-  // between packets when the tracker catches up.
+  // event stream stopped).
+  if (pending_.empty())
+    return false;
   const int64_t max_latency_ns = static_cast<int64_t>(params_.imu.max_latency_s * 1e9);
   const auto endOf = [](const dvs_msgs::EventArray& m) {
     return m.events.empty() ? INT64_MIN : dvs_driver::rosTimeToNs(m.events.back().ts);
   };
+  const auto& p = pending_.front();
+  const bool imu_used = imu_ && isEngaged(imu_->status());
+  const int64_t end_ns = endOf(*p.msg);
+  const int64_t newest_event_ns = std::max(end_ns, endOf(*pending_.back().msg));  // an empty last packet: no time
+  if (imu_used && end_ns != INT64_MIN && imu_->newestSampleNs() < end_ns &&
+      newest_event_ns - imu_->newestSampleNs() <= max_latency_ns &&
+      ros::WallTime::now() - p.arrival < ros::WallDuration(1.0))
+    return false;
+  queue_wait_max_s_ = std::max(queue_wait_max_s_, (ros::WallTime::now() - p.arrival).toSec());
+  msg = p.msg;
+  pending_events_ -= msg->events.size();
+  pending_.pop_front();
+  return true;
+}
+
+void TrackerRos::trackingLoop()
+{
   for (;;)
   {
-    std::lock_guard<std::recursive_mutex> lock(mutex_);
-    if (pending_.empty())
-      return;
-    const auto& p = pending_.front();
-    const bool imu_used = imu_ && isEngaged(imu_->status());
-    const int64_t end_ns = endOf(*p.msg);
-    const int64_t newest_event_ns = std::max(end_ns, endOf(*pending_.back().msg));  // an empty last packet: no time
-    if (imu_used && end_ns != INT64_MIN && imu_->newestSampleNs() < end_ns &&
-        newest_event_ns - imu_->newestSampleNs() <= max_latency_ns &&
-        ros::WallTime::now() - p.arrival < ros::WallDuration(1.0))
-      return;
-    const dvs_msgs::EventArrayConstPtr msg = p.msg;
-    pending_.pop_front();
-    processPacket(msg);
+    // Between packets the IMU callback and ~output_rate's thread get the tracker's lock.
+    std::unique_lock<std::recursive_mutex> lock(mutex_);
+    dvs_msgs::EventArrayConstPtr msg;
+    int stride = 1;
+    {
+      std::unique_lock<std::mutex> q(queue_mutex_);
+      if (stopping_)
+        return;
+      if (!nextPacket(msg))
+      {
+        // A packet or an IMU sample wakes it; the timeout tracks a packet whose IMU stopped.
+        lock.unlock();
+        wake_.wait_for(q, std::chrono::milliseconds(100));
+        continue;
+      }
+      stride = overload_.strideFor(pending_events_ + msg->events.size());
+    }
+    const auto t0 = std::chrono::steady_clock::now();
+    const size_t tracked = processPacket(msg, stride);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    std::lock_guard<std::mutex> q(queue_mutex_);
+    overload_.tracked(tracked, seconds);
+    if (tracked < msg->events.size())
+      overload_.skipped(msg->events.size() - tracked);
   }
 }
 
-void TrackerRos::processPacket(const dvs_msgs::EventArrayConstPtr& msg)
+size_t TrackerRos::processPacket(const dvs_msgs::EventArrayConstPtr& msg, int stride)
 {
   const bool per_event = settings_.publish_per_event_poses && pose_pub_.getNumSubscribers() > 0;
   const bool batched = poses_pub_.getNumSubscribers() > 0;
@@ -259,8 +307,12 @@ void TrackerRos::processPacket(const dvs_msgs::EventArrayConstPtr& msg)
   int64_t last_update_ns = 0;
   bool any_update = false;
   dvs_driver::Event e;
+  size_t tracked = 0;
   for (const auto& m : msg->events)
   {
+    if (stride > 1 && stride_phase_++ % static_cast<uint64_t>(stride) != 0)
+      continue;
+    ++tracked;
     e.t_ns = dvs_driver::rosTimeToNs(m.ts);
     e.x = m.x;
     e.y = m.y;
@@ -299,7 +351,26 @@ void TrackerRos::processPacket(const dvs_msgs::EventArrayConstPtr& msg)
     poses_pub_.publish(poses);
   }
   publishPacket(*msg, last_update_ns, any_update);
+  reportOverload();
   diagnostics_.update();
+  return tracked;
+}
+
+void TrackerRos::reportOverload()
+{
+  std::lock_guard<std::mutex> q(queue_mutex_);
+  const OverloadStats& o = overload_.stats();
+  if (o.events_skipped > skipped_reported_ || o.events_dropped > dropped_reported_)
+  {
+    ROS_WARN_THROTTLE(1.0,
+                      "dvs_line_tracker: falling behind the events: tracking every %d-th event (%llu skipped, "
+                      "%llu dropped with %llu packets over max_queued_events so far; overload_latency %.3f s)",
+                      o.last_stride, static_cast<unsigned long long>(o.events_skipped),
+                      static_cast<unsigned long long>(o.events_dropped),
+                      static_cast<unsigned long long>(o.packets_dropped), overload_.params().max_latency_s);
+    skipped_reported_ = o.events_skipped;
+    dropped_reported_ = o.events_dropped;
+  }
 }
 
 void TrackerRos::reportInputProblems()
@@ -473,6 +544,24 @@ void TrackerRos::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat)
   stat.add("gaps bridged by the IMU", st.gaps_bridged);
   if (st.events_outside_sensor > 0 || st.time_jumps > 0)
     stat.mergeSummary(diagnostic_msgs::DiagnosticStatus::WARN, "input problems (see the counters)");
+  // Overload: what the tracker left out to keep up (never silent).
+  std::unique_lock<std::mutex> q(queue_mutex_);
+  const OverloadStats& o = overload_.stats();
+  stat.add("queued events", pending_events_);
+  stat.add("longest queue wait [ms]", queue_wait_max_s_ * 1e3);
+  stat.add("tracking cost [us/event]", overload_.secondsPerEvent() * 1e6);
+  stat.add("overload: stride now (1: every event tracked)", o.last_stride);
+  stat.add("overload: events skipped", o.events_skipped);
+  stat.add("overload: packets tracked with a stride", o.packets_strided);
+  stat.add("overload: packets dropped (max_queued_events)", o.packets_dropped);
+  stat.add("overload: events dropped", o.events_dropped);
+  if (o.events_skipped > skipped_at_diag_ || o.events_dropped > dropped_at_diag_)
+    stat.summary(diagnostic_msgs::DiagnosticStatus::WARN,
+                 stat.message + "; falling behind: events skipped or dropped to keep the latency (see overload:)");
+  skipped_at_diag_ = o.events_skipped;
+  dropped_at_diag_ = o.events_dropped;
+  queue_wait_max_s_ = 0;
+  q.unlock();
   stat.add("IMU messages", imu_messages_);
   if (imu_)
   {

@@ -1,0 +1,57 @@
+#pragma once
+// Keeps the live tracker from falling behind (issue 16): when event packets queue up faster than
+// the tracker processes them, it tracks every k-th event (k, the stride, chosen per packet so
+// that the queue would be worked off within `max_latency`) instead of letting the queue, the
+// latency and the memory grow. ROS-free; TrackerRos asks it before each packet and tells it
+// after. Every skipped event is counted (diagnostics), none silently.
+#include <cstddef>
+#include <cstdint>
+
+namespace dvs_line_tracker
+{
+struct OverloadParams
+{
+  double max_latency_s = 0.05;         ///< the queue is worked off within this (0: never skip)
+  int max_stride = 64;                 ///< at most every 64th event tracked
+  size_t max_queued_events = 4000000;  ///< beyond, the oldest packets are dropped (counted)
+};
+
+struct OverloadStats
+{
+  uint64_t events_skipped = 0;   ///< not tracked because of a stride > 1
+  uint64_t packets_strided = 0;  ///< packets tracked with a stride > 1
+  uint64_t packets_dropped = 0;  ///< dropped unprocessed: the queue exceeded max_queued_events
+  uint64_t events_dropped = 0;
+  int last_stride = 1;
+  int max_stride_used = 1;
+};
+
+class OverloadGovernor
+{
+public:
+  explicit OverloadGovernor(const OverloadParams& params = OverloadParams()) : params_(params) {}
+
+  /// The stride for the next packet: `queued_events` are waiting, the next packet's included.
+  int strideFor(size_t queued_events);
+  /// After a packet: `tracked` events went through the tracker in `seconds` (wall time).
+  void tracked(size_t tracked, double seconds);
+  /// Count the events a stride left out.
+  void skipped(size_t events) { stats_.events_skipped += events; }
+  /// Count a packet dropped unprocessed (queue over max_queued_events).
+  void dropped(size_t events)
+  {
+    ++stats_.packets_dropped;
+    stats_.events_dropped += events;
+  }
+  bool overQueueLimit(size_t queued_events) const { return queued_events > params_.max_queued_events; }
+  /// Wall seconds per tracked event (running mean; 0 before the first measurement).
+  double secondsPerEvent() const { return seconds_per_event_; }
+  const OverloadStats& stats() const { return stats_; }
+  const OverloadParams& params() const { return params_; }
+
+private:
+  OverloadParams params_;
+  OverloadStats stats_;
+  double seconds_per_event_ = 0;
+};
+}  // namespace dvs_line_tracker
