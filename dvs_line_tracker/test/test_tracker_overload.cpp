@@ -4,7 +4,7 @@
 // event stays bounded (the tracker tracks every k-th event instead of queueing), the skipped
 // events are reported in diagnostics, and the tracker keeps tracking.
 #include <diagnostic_msgs/DiagnosticArray.h>
-#include <dvs_calibration/camera_info_conversions.h>
+#include "camera_info_latch.h"
 #include <dvs_driver/event_bag_io.h>
 #include <dvs_screen_sim/dataset.h>
 #include <dvs_screen_sim/sim_config.h>
@@ -79,17 +79,13 @@ TEST(TrackerOverload, FiveTimesRealTimeKeepsTheLatencyBounded)
   ros::AsyncSpinner spinner(2);
   spinner.start();
 
-  std::atomic<int> info_disconnects{0};
-  ros::Publisher info_pub = nh.advertise<sensor_msgs::CameraInfo>(
-      "/dvs/camera_info", 1, ros::SubscriberStatusCallback(),
-      [&](const ros::SingleSubscriberPublisher&) { ++info_disconnects; }, ros::VoidConstPtr(), true);
+  const CameraInfoLatch info(nh, config.camera);
   ros::Publisher events_pub = nh.advertise<dvs_msgs::EventArray>("/dvs/events", 10000);
-  info_pub.publish(dvs_calibration::toCameraInfoMsg(config.camera, "dvs"));
   const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(30.0);
-  while ((events_pub.getNumSubscribers() == 0 || poses_sub.getNumPublishers() == 0 || info_disconnects.load() == 0) &&
+  while ((events_pub.getNumSubscribers() == 0 || poses_sub.getNumPublishers() == 0 || !info.taken()) &&
          ros::WallTime::now() < deadline)
     ros::WallDuration(0.02).sleep();
-  ASSERT_GT(info_disconnects.load(), 0) << "the tracker did not take the camera_info within 30 s";
+  ASSERT_TRUE(info.taken()) << "the tracker did not take the camera_info within 30 s";
 
   // 1 ms packets, each published when the wall clock reaches its last event at 5x.
   const int64_t t0 = sim.events.front().t_ns;

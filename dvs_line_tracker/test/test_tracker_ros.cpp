@@ -3,7 +3,7 @@
 // Checks per-event poses against ground truth, the batched poses, TF world -> dvs, the state
 // topic, the diagnostics, and ~odometry (frames, rate, covariances, the body pose).
 #include <diagnostic_msgs/DiagnosticArray.h>
-#include <dvs_calibration/camera_info_conversions.h>
+#include "camera_info_latch.h"
 #include <dvs_driver/event_bag_io.h>
 #include <dvs_line_tracker/pose_types.h>
 #include <dvs_screen_sim/dataset.h>
@@ -105,24 +105,19 @@ TEST(TrackerRos, TracksASimulatedBag)
   ros::AsyncSpinner spinner(2);
   spinner.start();
 
-  // 3. Camera info (latched), then the bag's packets. The tracker unsubscribes from camera_info
-  // once it has one (tracker_ros.cpp): that disconnect says the camera info was delivered.
-  std::atomic<int> info_disconnects{0};
-  ros::Publisher info_pub = nh.advertise<sensor_msgs::CameraInfo>(
-      "/dvs/camera_info", 1, ros::SubscriberStatusCallback(),
-      [&](const ros::SingleSubscriberPublisher&) { ++info_disconnects; }, ros::VoidConstPtr(), true);
+  // 3. Camera info (latched), then the bag's packets.
+  const CameraInfoLatch info(nh, config.camera);
   ros::Publisher events_pub = nh.advertise<dvs_msgs::EventArray>("/dvs/events", 2000);
   ros::Publisher imu_pub = nh.advertise<sensor_msgs::Imu>("/dvs/imu", 2000);
-  info_pub.publish(dvs_calibration::toCameraInfoMsg(config.camera, "dvs"));
   const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(30.0);
   while ((events_pub.getNumSubscribers() == 0 || imu_pub.getNumSubscribers() == 0 || pose_sub.getNumPublishers() == 0 ||
           poses_sub.getNumPublishers() == 0 || odometry_sub.getNumPublishers() == 0) &&
          ros::WallTime::now() < deadline)
     ros::WallDuration(0.05).sleep();
   ASSERT_GT(events_pub.getNumSubscribers(), 0u);
-  while (info_disconnects.load() == 0 && ros::WallTime::now() < deadline)
+  while (!info.taken() && ros::WallTime::now() < deadline)
     ros::WallDuration(0.01).sleep();
-  ASSERT_GT(info_disconnects.load(), 0) << "the tracker did not take the camera_info within 30 s";
+  ASSERT_TRUE(info.taken()) << "the tracker did not take the camera_info within 30 s";
 
   // Simulate now, stamped from 0.3 s ahead, and write the events to a bag.
   const int64_t start_ns = static_cast<int64_t>(ros::WallTime::now().toNSec()) + 300000000;
