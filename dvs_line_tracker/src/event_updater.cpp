@@ -12,6 +12,8 @@ EventUpdater::EventUpdater(const TrackingGeometry& geometry, const LineTrackerPa
 void EventUpdater::reset()
 {
   dark_side_.clear();
+  num_changed_ = events_since_solve_ = 0;
+  std::fill(changed_flag_.begin(), changed_flag_.end(), 0);
   round_robin_ = 0;
   updates_since_normalize_ = 0;
 }
@@ -40,6 +42,10 @@ int EventUpdater::start(EstimatorState& state, const Pose& pose)
   }
   for (size_t i = 0; i < state.projected.size(); ++i)
     relinearize(state, static_cast<int>(i));
+  // Nothing pending for the next solve (the buffers were just seeded and linearised).
+  changed_flag_.assign(state.projected.size(), 0);
+  changed_list_.assign(state.projected.size(), 0);
+  num_changed_ = events_since_solve_ = 0;
   return visible;
 }
 
@@ -50,13 +56,33 @@ bool EventUpdater::update(EstimatorState& state, const Eigen::Vector2d& p, bool 
       attributeEvent(p, state.projected.data(), static_cast<int>(state.projected.size()), params_.attribution, segs);
   if (n == 0)
     return false;
+  if (changed_flag_.size() != state.projected.size())
+  {
+    changed_flag_.assign(state.projected.size(), 0);
+    changed_list_.assign(state.projected.size(), 0);
+    num_changed_ = 0;
+  }
   for (int i = 0; i < n; ++i)
+  {
     state.buffers[segs[i]].insert(dark_side_.correct(p, polarity, segs[i], edge_offset, state.projected),
                                   state.projected[segs[i]], params_.attribution.max_orthogonal_px,
                                   params_.attribution.max_parallel_px,
                                   params_.buffer_motion_px > 0 ? params_.buffer_motion_px : 1e300,
                                   params_.estimator.huber_px);
-  step(state, segs, n);
+    if (!changed_flag_[segs[i]])
+    {
+      changed_flag_[segs[i]] = 1;
+      changed_list_[num_changed_++] = segs[i];
+    }
+  }
+  if (++events_since_solve_ >= (solve_every_ > 0 ? solve_every_ : params_.solve_every_events))
+  {
+    step(state, changed_list_.data(), num_changed_);
+    for (int i = 0; i < num_changed_; ++i)
+      changed_flag_[changed_list_[i]] = 0;
+    num_changed_ = 0;
+    events_since_solve_ = 0;
+  }
   return true;
 }
 
@@ -69,7 +95,7 @@ void EventUpdater::relinearize(EstimatorState& state, int i) const
   eq.x_lin = state.x_accumulated;
 }
 
-void EventUpdater::step(EstimatorState& state, const int changed[2], int num_changed)
+void EventUpdater::step(EstimatorState& state, const int* changed, int num_changed)
 {
   const int n = static_cast<int>(state.equations.size());
   const auto& ep = params_.estimator;

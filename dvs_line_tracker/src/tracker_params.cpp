@@ -73,6 +73,8 @@ dvs_driver::ParamTable trackerParamTable(LineTrackerParams& p, std::string& solv
   t.add("edge_offset_px", p.edge_offset_px, "px", 0, kInf, "constant offset towards the bright side (no run model)");
   t.add("buffer_motion_px", p.buffer_motion_px, "px", 0, kInf, "buffered events dropped once their segment moved this far (0: off)");
   t.add("buffer_size", p.buffer_size, "events", 2, 1024, "events per segment buffer (thesis 8)");
+  t.add("solve_every_events", p.solve_every_events, "events", 1, 64,
+        "the pose is solved once per this many attributed events (between: attributed and buffered; 1: every event)");
   t.add("full_iterations", p.estimator.full_iterations, "", 1, 100, "Gauss-Newton iterations per event (solver full)");
   t.add("extra_relinearizations", p.estimator.extra_relinearizations, "", 0, 1000,
         "segments re-linearised round robin per event (solver incremental)");

@@ -1,5 +1,6 @@
-// OverloadGovernor: the stride that works a queue off within the latency budget, from the
-// measured cost per event; the counters of what was skipped or dropped.
+// OverloadGovernor: first the batched solve, then the stride that works a queue off within the
+// latency budget, from the measured cost per event; back to every event's own solve with
+// hysteresis; the counters of what was skipped or dropped.
 #include <dvs_line_tracker/overload_governor.h>
 
 #include <gtest/gtest.h>
@@ -9,26 +10,64 @@ using namespace dvs_line_tracker;
 TEST(OverloadGovernor, EveryEventUntilTheCostIsKnown)
 {
   OverloadGovernor g;
-  EXPECT_EQ(g.strideFor(1000000), 1);
-  EXPECT_EQ(g.stats().packets_strided, 0u);
+  const OverloadAction a = g.actionFor(1000000);
+  EXPECT_EQ(a.solve_every, 1);
+  EXPECT_EQ(a.stride, 1);
+  EXPECT_EQ(g.stats().packets_batched + g.stats().packets_strided, 0u);
 }
 
-TEST(OverloadGovernor, StrideWorksTheQueueOffWithinTheBudget)
+TEST(OverloadGovernor, BatchedSolveFirstThenTheStrideThatWorksTheQueueOff)
 {
   OverloadParams p;
   p.max_latency_s = 0.005;
+  p.batch_solve_every = 4;
   OverloadGovernor g(p);
   g.tracked(1000, 1000 * 1e-6);  // 1 us per event
   EXPECT_DOUBLE_EQ(g.secondsPerEvent(), 1e-6);
-  // 4,000 queued events take 4 ms: every event.
-  EXPECT_EQ(g.strideFor(4000), 1);
-  // 12,000 take 12 ms: every third event (4 ms).
-  EXPECT_EQ(g.strideFor(12000), 3);
-  EXPECT_EQ(g.stats().last_stride, 3);
+  // 4,000 queued events take 4 ms: every event, its own solve.
+  OverloadAction a = g.actionFor(4000);
+  EXPECT_EQ(a.solve_every, 1);
+  EXPECT_EQ(a.stride, 1);
+  // 12,000 take 12 ms: the batched solve first, every event still tracked.
+  a = g.actionFor(12000);
+  EXPECT_EQ(a.solve_every, 4);
+  EXPECT_EQ(a.stride, 1);
+  EXPECT_TRUE(g.batched());
+  // Batched and still behind (0.5 us per event measured now, 24,000 queued: 12 ms): every
+  // third event as well.
+  for (int i = 0; i < 50; ++i)
+    g.tracked(1000, 1000 * 0.5e-6);
+  a = g.actionFor(24000);
+  EXPECT_EQ(a.solve_every, 4);
+  EXPECT_EQ(a.stride, 3);
+  EXPECT_EQ(g.stats().last.stride, 3);
   EXPECT_EQ(g.stats().packets_strided, 1u);
+  EXPECT_EQ(g.stats().packets_batched, 2u);
   // Bounded by max_stride.
-  EXPECT_EQ(g.strideFor(100000000), p.max_stride);
+  EXPECT_EQ(g.actionFor(100000000).stride, p.max_stride);
   EXPECT_EQ(g.stats().max_stride_used, p.max_stride);
+  // Caught up, but not by far (2,000 queued: 1 ms, a fifth of the budget at the batched cost, 2
+  // at the full one): batched still, every event.
+  a = g.actionFor(3000);
+  EXPECT_EQ(a.solve_every, 4);
+  EXPECT_EQ(a.stride, 1);
+  // Far below (2 ms at the full cost): every event's own solve again.
+  a = g.actionFor(2000);
+  EXPECT_EQ(a.solve_every, 1);
+  EXPECT_EQ(a.stride, 1);
+  EXPECT_FALSE(g.batched());
+}
+
+TEST(OverloadGovernor, WithoutBatchingTheStrideAlone)
+{
+  OverloadParams p;
+  p.max_latency_s = 0.005;
+  p.batch_solve_every = 1;
+  OverloadGovernor g(p);
+  g.tracked(1000, 1000 * 1e-6);
+  const OverloadAction a = g.actionFor(12000);
+  EXPECT_EQ(a.solve_every, 1);
+  EXPECT_EQ(a.stride, 3);
 }
 
 TEST(OverloadGovernor, CostFollowsTheMeasurements)
@@ -43,13 +82,15 @@ TEST(OverloadGovernor, CostFollowsTheMeasurements)
   EXPECT_NEAR(g.secondsPerEvent(), 4e-6, 1e-8);
 }
 
-TEST(OverloadGovernor, ZeroLatencyBudgetNeverSkips)
+TEST(OverloadGovernor, ZeroLatencyBudgetNeverDegrades)
 {
   OverloadParams p;
   p.max_latency_s = 0;
   OverloadGovernor g(p);
   g.tracked(10, 1.0);
-  EXPECT_EQ(g.strideFor(1000000), 1);
+  const OverloadAction a = g.actionFor(1000000);
+  EXPECT_EQ(a.solve_every, 1);
+  EXPECT_EQ(a.stride, 1);
 }
 
 TEST(OverloadGovernor, CountsWhatIsLeftOut)

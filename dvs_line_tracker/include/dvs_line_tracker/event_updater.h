@@ -1,4 +1,5 @@
 #pragma once
+#include <vector>
 // The per-event measurement update (thesis 4.2.2): attribute an event to the projected map
 // segments, buffer it where the edge model puts the edge, and take one damped Gauss-Newton step
 // on the buffers' normal equations (pose_estimator.h: incremental or full solver). Also the
@@ -35,9 +36,14 @@ public:
   /// Forget learned evidence and counters.
   void reset();
 
+  /// Solve the pose once per `n` attributed events instead of params' solve_every_events (0: the
+  /// parameter again). For a live tracker falling behind (OverloadGovernor).
+  void setSolveEvery(int n) { solve_every_ = n; }
+  int solveEvery() const { return solve_every_ > 0 ? solve_every_ : params_.solve_every_events; }
+
 private:
   void relinearize(EstimatorState& state, int i) const;
-  void step(EstimatorState& state, const int changed[2], int num_changed);
+  void step(EstimatorState& state, const int* changed, int num_changed);
   void expireStaleEvents(EstimatorState& state, int i) const;
 
   const TrackingGeometry& geometry_;
@@ -45,5 +51,9 @@ private:
   DarkSideEvidence dark_side_;
   int round_robin_ = 0;
   uint64_t updates_since_normalize_ = 0;
+  std::vector<char> changed_flag_;  ///< segments with new events since the last solve
+  std::vector<int> changed_list_;
+  int num_changed_ = 0, events_since_solve_ = 0;
+  int solve_every_ = 0;  ///< 0: params_.solve_every_events
 };
 }  // namespace dvs_line_tracker

@@ -41,6 +41,10 @@ struct LineTrackerParams
   /// pose); `estimator.damping` otherwise. Updated at every quality check.
   double damping_partial_view = 1.0;
   int buffer_size = 40;              ///< events per segment buffer (thesis: 8; with the motion bound, 40 measured most accurate, BENCHMARKS.md)
+  /// The pose is solved once per this many attributed events; the events in between are
+  /// attributed and buffered against the last solved pose, which they report. 1: every event
+  /// (the thesis). Larger: faster (BENCHMARKS.md: 4 gives 1.4-1.8x), accuracy per sequence.
+  int solve_every_events = 1;
   /// The initialisation's event counts and pixel gaps (Hough window and threshold, segment gap,
   /// detection interval, refinement events) are given for a 128x128 sensor and scaled by
   /// sqrt(width * height) / 128 on larger sensors (their edges are longer and fire more events).
@@ -102,7 +106,7 @@ struct TrackerNodeSettings
   double output_rate_hz = 0.0;     ///< ~odometry at this fixed rate, predicted to the publish time (0: once per event packet)
   /// Overload (OverloadGovernor): queued packets are worked off within this, tracking every
   /// k-th event when needed (0: every event, whatever the latency).
-  double overload_latency_s = 0.05;
+  double overload_latency_s = 0.1;
   int max_queued_events = 4000000;  ///< beyond, the oldest queued packets are dropped (counted)
 };
 /// The node's settings as a table (the ROS node reads this merged with trackerParamTable).
