@@ -7,12 +7,21 @@
 
 using namespace dvs_line_tracker;
 
+namespace
+{
+/// The governor's action for `queued` events is (solve_every, stride).
+void expectAction(OverloadGovernor& g, size_t queued, int solve_every, int stride)
+{
+  const OverloadAction a = g.actionFor(queued);
+  EXPECT_EQ(a.solve_every, solve_every) << queued << " queued";
+  EXPECT_EQ(a.stride, stride) << queued << " queued";
+}
+}  // namespace
+
 TEST(OverloadGovernor, EveryEventUntilTheCostIsKnown)
 {
   OverloadGovernor g;
-  const OverloadAction a = g.actionFor(1000000);
-  EXPECT_EQ(a.solve_every, 1);
-  EXPECT_EQ(a.stride, 1);
+  expectAction(g, 1000000, 1, 1);
   EXPECT_EQ(g.stats().packets_batched + g.stats().packets_strided, 0u);
 }
 
@@ -25,21 +34,15 @@ TEST(OverloadGovernor, BatchedSolveFirstThenTheStrideThatWorksTheQueueOff)
   g.tracked(1000, 1000 * 1e-6);  // 1 us per event
   EXPECT_DOUBLE_EQ(g.secondsPerEvent(), 1e-6);
   // 4,000 queued events take 4 ms: every event, its own solve.
-  OverloadAction a = g.actionFor(4000);
-  EXPECT_EQ(a.solve_every, 1);
-  EXPECT_EQ(a.stride, 1);
+  expectAction(g, 4000, 1, 1);
   // 12,000 take 12 ms: the batched solve first, every event still tracked.
-  a = g.actionFor(12000);
-  EXPECT_EQ(a.solve_every, 4);
-  EXPECT_EQ(a.stride, 1);
+  expectAction(g, 12000, 4, 1);
   EXPECT_TRUE(g.batched());
   // Batched and still behind (0.5 us per event measured now, 24,000 queued: 12 ms): every
   // third event as well.
   for (int i = 0; i < 50; ++i)
     g.tracked(1000, 1000 * 0.5e-6);
-  a = g.actionFor(24000);
-  EXPECT_EQ(a.solve_every, 4);
-  EXPECT_EQ(a.stride, 3);
+  expectAction(g, 24000, 4, 3);
   EXPECT_EQ(g.stats().last.stride, 3);
   EXPECT_EQ(g.stats().packets_strided, 1u);
   EXPECT_EQ(g.stats().packets_batched, 2u);
@@ -48,13 +51,9 @@ TEST(OverloadGovernor, BatchedSolveFirstThenTheStrideThatWorksTheQueueOff)
   EXPECT_EQ(g.stats().max_stride_used, p.max_stride);
   // Caught up, but not by far (2,000 queued: 1 ms, a fifth of the budget at the batched cost, 2
   // at the full one): batched still, every event.
-  a = g.actionFor(3000);
-  EXPECT_EQ(a.solve_every, 4);
-  EXPECT_EQ(a.stride, 1);
+  expectAction(g, 3000, 4, 1);
   // Far below (2 ms at the full cost): every event's own solve again.
-  a = g.actionFor(2000);
-  EXPECT_EQ(a.solve_every, 1);
-  EXPECT_EQ(a.stride, 1);
+  expectAction(g, 2000, 1, 1);
   EXPECT_FALSE(g.batched());
 }
 
@@ -65,9 +64,7 @@ TEST(OverloadGovernor, WithoutBatchingTheStrideAlone)
   p.batch_solve_every = 1;
   OverloadGovernor g(p);
   g.tracked(1000, 1000 * 1e-6);
-  const OverloadAction a = g.actionFor(12000);
-  EXPECT_EQ(a.solve_every, 1);
-  EXPECT_EQ(a.stride, 3);
+  expectAction(g, 12000, 1, 3);
 }
 
 TEST(OverloadGovernor, CostFollowsTheMeasurements)
@@ -88,9 +85,7 @@ TEST(OverloadGovernor, ZeroLatencyBudgetNeverDegrades)
   p.max_latency_s = 0;
   OverloadGovernor g(p);
   g.tracked(10, 1.0);
-  const OverloadAction a = g.actionFor(1000000);
-  EXPECT_EQ(a.solve_every, 1);
-  EXPECT_EQ(a.stride, 1);
+  expectAction(g, 1000000, 1, 1);
 }
 
 TEST(OverloadGovernor, CountsWhatIsLeftOut)
