@@ -56,12 +56,6 @@ bool EventUpdater::update(EstimatorState& state, const Eigen::Vector2d& p, bool 
       attributeEvent(p, state.projected.data(), static_cast<int>(state.projected.size()), params_.attribution, segs);
   if (n == 0)
     return false;
-  if (changed_flag_.size() != state.projected.size())
-  {
-    changed_flag_.assign(state.projected.size(), 0);
-    changed_list_.assign(state.projected.size(), 0);
-    num_changed_ = 0;
-  }
   for (int i = 0; i < n; ++i)
   {
     state.buffers[segs[i]].insert(dark_side_.correct(p, polarity, segs[i], edge_offset, state.projected),
@@ -75,7 +69,7 @@ bool EventUpdater::update(EstimatorState& state, const Eigen::Vector2d& p, bool 
       changed_list_[num_changed_++] = segs[i];
     }
   }
-  if (++events_since_solve_ >= (solve_every_ > 0 ? solve_every_ : params_.solve_every_events))
+  if (++events_since_solve_ >= params_.solve_every_events)
   {
     step(state, changed_list_.data(), num_changed_);
     for (int i = 0; i < num_changed_; ++i)

@@ -1,5 +1,4 @@
 #include <dvs_line_tracker/imu_propagator.h>
-#include <cstdlib>
 
 #include <Eigen/Cholesky>
 
@@ -213,7 +212,8 @@ void ImuPropagator::restart(const EstimatorState& state, int64_t t_ns)
   cursor_.t_ns = t_last_update_ = checking_since_ns_ = previous_event_ns_ = started_ns_ = t_ns;
   cursor_.pending_cov_dt = 0;
   // An estimated gravity that was not confirmed yet: the tracker's filter runs without the
-  // accelerometer (orientation only) while a second filter with it checks the gravity.
+  // accelerometer (gyroscope, constant-velocity position) while a second filter with it checks
+  // the gravity.
   checking_gravity_ = gravityEstimated() && !gravity_checked_;
   ekf_.useAccelerometer(!checking_gravity_);
   if (checking_gravity_)

@@ -23,8 +23,9 @@ public:
   /// it, linearise. Returns the number of visible segments.
   int start(EstimatorState& state, const Pose& pose);
 
-  /// One event at ideal pixel `p`: attribute it, buffer it (moved by `edge_offset` towards the
-  /// bright side), update the pose. Returns true when it was attributed (and the pose updated).
+  /// One event at ideal pixel `p` (after start()): attribute it, buffer it (moved by
+  /// `edge_offset` towards the bright side), update the pose (once per solve_every_events
+  /// attributed events). Returns true when it was attributed.
   /// Allocates nothing.
   bool update(EstimatorState& state, const Eigen::Vector2d& p, bool polarity, double edge_offset);
 
@@ -35,11 +36,6 @@ public:
 
   /// Forget learned evidence and counters.
   void reset();
-
-  /// Solve the pose once per `n` attributed events instead of params' solve_every_events (0: the
-  /// parameter again). For a live tracker falling behind (OverloadGovernor).
-  void setSolveEvery(int n) { solve_every_ = n; }
-  int solveEvery() const { return solve_every_ > 0 ? solve_every_ : params_.solve_every_events; }
 
 private:
   void relinearize(EstimatorState& state, int i) const;
@@ -54,6 +50,5 @@ private:
   std::vector<char> changed_flag_;  ///< segments with new events since the last solve
   std::vector<int> changed_list_;
   int num_changed_ = 0, events_since_solve_ = 0;
-  int solve_every_ = 0;  ///< 0: params_.solve_every_events
 };
 }  // namespace dvs_line_tracker

@@ -46,7 +46,7 @@ enum class ImuStatus
   kDisagrees,  ///< the filter kept disagreeing with the vision: vision alone for a while
 };
 const char* toString(ImuStatus status);
-/// The filter moves the tracker's pose (all of it, or its orientation).
+/// The filter moves the tracker's pose (with the accelerometer, or without it: GYRO_ONLY).
 inline bool isFused(ImuStatus s) { return s == ImuStatus::kOk || s == ImuStatus::kGyroOnly; }
 /// The filter runs (fused, or checked before it is fused): event packets wait for its samples.
 inline bool isEngaged(ImuStatus s) { return isFused(s) || s == ImuStatus::kChecking; }
@@ -157,7 +157,7 @@ private:
   bool trusted_ = false;       ///< agrees with the vision: moves the tracker's pose
   bool forget_learned_ = false;  ///< the next start forgets biases and gravity (they went implausible)
   bool gyro_only_ = false;     ///< the accelerometer does not move the tracker (until the next start)
-  bool checking_gravity_ = false;  ///< an estimated gravity being checked (gravity_check_): orientation only
+  bool checking_gravity_ = false;  ///< an estimated gravity being checked (gravity_check_): ekf_ without the accelerometer
   bool gravity_checked_ = false;   ///< the estimated gravity was confirmed (kept across restarts)
   ImuEkf gravity_check_;           ///< with the accelerometer, beside ekf_ while checking the gravity
   Cursor gravity_cursor_;

@@ -56,10 +56,6 @@ public:
   /// Process one event. Returns true when the pose was updated (or initialised) by it.
   bool processEvent(const dvs_driver::Event& event);
 
-  /// Solve the pose once per `n` attributed events (0: the parameter solve_every_events).
-  void setSolveEvery(int n) { updater_.setSolveEvery(n); }
-  int solveEvery() const { return updater_.solveEvery(); }
-
   TrackerState state() const { return status_; }
   const Pose& pose() const { return estimator_.pose; }
   const TrackerStats& stats() const { return stats_; }

@@ -55,6 +55,7 @@ private:
   void publishImage(const dvs_msgs::EventArray& msg);
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat);
   void reportInputProblems();
+  /// A warning (at most once per second) when events were skipped or dropped. With queue_mutex_.
   void reportOverload();
 
   ros::NodeHandle nh_, pnh_;

@@ -269,7 +269,7 @@ void TrackerRos::trackingLoop()
     // Between packets the IMU callback and ~output_rate's thread get the tracker's lock.
     std::unique_lock<std::recursive_mutex> lock(mutex_);
     dvs_msgs::EventArrayConstPtr msg;
-    OverloadAction action;
+    int stride = 1;
     {
       std::unique_lock<std::mutex> q(queue_mutex_);
       if (stopping_)
@@ -281,16 +281,16 @@ void TrackerRos::trackingLoop()
         wake_.wait_for(q, std::chrono::milliseconds(100));
         continue;
       }
-      action = overload_.actionFor(pending_events_ + msg->events.size());
+      stride = overload_.strideFor(pending_events_ + msg->events.size());
     }
-    tracker_->setSolveEvery(action.solve_every > 1 ? action.solve_every : 0);
     const auto t0 = std::chrono::steady_clock::now();
-    const size_t tracked = processPacket(msg, action.stride);
+    const size_t tracked = processPacket(msg, stride);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     std::lock_guard<std::mutex> q(queue_mutex_);
     overload_.tracked(tracked, seconds);
     if (tracked < msg->events.size())
       overload_.skipped(msg->events.size() - tracked);
+    reportOverload();
   }
 }
 
@@ -352,22 +352,19 @@ size_t TrackerRos::processPacket(const dvs_msgs::EventArrayConstPtr& msg, int st
     poses_pub_.publish(poses);
   }
   publishPacket(*msg, last_update_ns, any_update);
-  reportOverload();
   diagnostics_.update();
   return tracked;
 }
 
 void TrackerRos::reportOverload()
 {
-  std::lock_guard<std::mutex> q(queue_mutex_);
   const OverloadStats& o = overload_.stats();
   if (o.events_skipped > skipped_reported_ || o.events_dropped > dropped_reported_)
   {
     ROS_WARN_THROTTLE(1.0,
-                      "dvs_line_tracker: falling behind the events: solving once per %d events, tracking every "
-                      "%d-th event (%llu skipped, %llu dropped with %llu packets over max_queued_events so far; "
-                      "overload_latency %.3f s)",
-                      o.last.solve_every, o.last.stride, static_cast<unsigned long long>(o.events_skipped),
+                      "dvs_line_tracker: falling behind the events: tracking every %d-th event (%llu skipped, "
+                      "%llu dropped with %llu packets over max_queued_events so far; overload_latency %.3f s)",
+                      o.last_stride, static_cast<unsigned long long>(o.events_skipped),
                       static_cast<unsigned long long>(o.events_dropped),
                       static_cast<unsigned long long>(o.packets_dropped), overload_.params().max_latency_s);
     skipped_reported_ = o.events_skipped;
@@ -552,9 +549,7 @@ void TrackerRos::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat)
   stat.add("queued events", pending_events_);
   stat.add("longest queue wait [ms]", queue_wait_max_s_ * 1e3);
   stat.add("tracking cost [us/event]", overload_.secondsPerEvent() * 1e6);
-  stat.add("overload: solving once per N events now (1: every event)", o.last.solve_every);
-  stat.add("overload: stride now (1: every event tracked)", o.last.stride);
-  stat.add("overload: packets tracked with the batched solve", o.packets_batched);
+  stat.add("overload: stride now (1: every event tracked)", o.last_stride);
   stat.add("overload: events skipped", o.events_skipped);
   stat.add("overload: packets tracked with a stride", o.packets_strided);
   stat.add("overload: packets dropped (max_queued_events)", o.packets_dropped);
