@@ -26,6 +26,21 @@ double ImagePolygon::signedArea() const
   return a / 2;
 }
 
+bool sameCorners(const ImagePolygon& a, const ImagePolygon& b)
+{
+  if (a.corners.size() != b.corners.size() || a.open != b.open)
+    return false;
+  for (const auto& p : a.corners)
+  {
+    bool near = false;
+    for (const auto& q : b.corners)
+      near |= (p - q).squaredNorm() < 0.25;
+    if (!near)
+      return false;
+  }
+  return true;
+}
+
 bool intersectLines(const ImageSegment& a, const ImageSegment& b, Eigen::Vector2d& point)
 {
   const Eigen::Vector2d da = a.p1 - a.p0, db = b.p1 - b.p0;
@@ -55,12 +70,23 @@ class Search
 public:
   Search(const std::vector<ImageSegment>& segs, int n, const PolygonSearchParams& p) : segs_(segs), n_(n), p_(p)
   {
+    chain_length_ = n;
     cos_min_ = std::cos(p.max_turn_angle_deg * M_PI / 180.0);
     cos_max_ = std::cos(p.min_turn_angle_deg * M_PI / 180.0);
     order_.resize(segs.size());
     std::iota(order_.begin(), order_.end(), 0);
     std::stable_sort(order_.begin(), order_.end(), [&](int a, int b) { return segs[a].length() > segs[b].length(); });
     used_.assign(segs.size(), false);
+  }
+
+  /// Search open polygons (n - 1 sides whose outer ends reach the border of the image box).
+  void setOpen(double width, double height, double border_px)
+  {
+    open_ = true;
+    chain_length_ = n_ - 1;
+    width_ = width;
+    height_ = height;
+    border_px_ = border_px;
   }
 
   /// Collect up to `max` polygons with distinct segment sets.
@@ -138,24 +164,66 @@ private:
     return true;
   }
 
+  bool atBorder(const Eigen::Vector2d& p) const
+  {
+    return p.x() < border_px_ || p.y() < border_px_ || p.x() > width_ - 1 - border_px_ ||
+           p.y() > height_ - 1 - border_px_;
+  }
+
+  bool opens(ImagePolygon& out) const
+  {
+    ImagePolygon poly;
+    poly.open = true;
+    for (int k = 0; k + 1 < chain_length_; ++k)
+    {
+      Eigen::Vector2d corner;
+      if (!meets(chain_[k], chain_[k + 1], &corner))
+        return false;
+      poly.gap_px += (corner - chain_[k].far_end).norm() + (corner - chain_[k + 1].near_end).norm();
+      poly.corners.push_back(corner);
+    }
+    for (int k = 0; k < chain_length_; ++k)
+      poly.segment_ids.push_back(chain_[k].id);
+    poly.open_first = chain_.front().near_end;
+    poly.open_last = chain_.back().far_end;
+    if (!atBorder(poly.open_first) || !atBorder(poly.open_last))
+      return false;
+    for (size_t k = 0; k + 1 < poly.corners.size(); ++k)
+      if ((poly.corners[k + 1] - poly.corners[k]).norm() < p_.min_side_px)
+        return false;
+    if ((poly.open_first - poly.corners.front()).norm() < 0.5 * p_.min_side_px ||
+        (poly.open_last - poly.corners.back()).norm() < 0.5 * p_.min_side_px)
+      return false;
+    out = poly;
+    return true;
+  }
+
   bool extend(ImagePolygon& out)
   {
     if (++steps_ > p_.max_steps)
       return false;
-    if (static_cast<int>(chain_.size()) == n_)
+    if (static_cast<int>(chain_.size()) == chain_length_)
     {
-      if (!closes(out))
+      if (!(open_ ? opens(out) : closes(out)))
         return false;
       if (!collect_)
         return true;
       std::vector<int> ids = out.segment_ids;
       std::sort(ids.begin(), ids.end());
-      for (const auto& f : *collect_)
+      for (auto& f : *collect_)
       {
         std::vector<int> other = f.segment_ids;
         std::sort(other.begin(), other.end());
         if (other == ids)
           return false;
+        // Other pieces of the same lines (splitAtJunctions) give the same corners: one polygon,
+        // the one whose sides meet best.
+        if (sameCorners(f, out))
+        {
+          if (out.gap_px < f.gap_px)
+            f = out;
+          return false;
+        }
       }
       collect_->push_back(out);
       return static_cast<int>(collect_->size()) >= max_;
@@ -200,10 +268,93 @@ private:
   std::vector<bool> used_;
   std::vector<Oriented> chain_;
   int steps_ = 0;
+  int chain_length_ = 0;
+  bool open_ = false;
+  double width_ = 0, height_ = 0, border_px_ = 0;
   std::vector<ImagePolygon>* collect_ = nullptr;
   int max_ = 1;
 };
 }  // namespace
+
+std::vector<ImagePolygon> findOpenPolygons(const std::vector<ImageSegment>& segments, int num_sides,
+                                           const PolygonSearchParams& params, double width, double height,
+                                           double border_px, int max_polygons)
+{
+  std::vector<ImagePolygon> found;
+  if (num_sides < 4 || static_cast<int>(segments.size()) < num_sides - 1 || max_polygons < 1)
+    return found;
+  Search search(segments, num_sides, params);
+  search.setOpen(width, height, border_px);
+  search.runAll(found, max_polygons);
+  std::stable_sort(found.begin(), found.end(),
+                   [](const ImagePolygon& a, const ImagePolygon& b) { return a.gap_px < b.gap_px; });
+  return found;
+}
+
+std::vector<ImageSegment> splitAtJunctions(const std::vector<ImageSegment>& segments,
+                                           const PolygonSearchParams& params)
+{
+  std::vector<ImageSegment> out = segments;
+  const size_t max_total = 3 * segments.size();
+  const double cos_limit = std::cos(params.min_turn_angle_deg * M_PI / 180.0);
+  std::vector<int> order(segments.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](int a, int b) { return segments[a].length() > segments[b].length(); });
+  std::vector<double> cuts;
+  for (int i : order)
+  {
+    const ImageSegment& a = segments[i];
+    const double len_a = a.length();
+    if (len_a < 2 * params.min_side_px)
+      continue;
+    const Eigen::Vector2d dir_a = (a.p1 - a.p0) / len_a;
+    cuts.clear();
+    for (size_t j = 0; j < segments.size(); ++j)
+    {
+      const ImageSegment& b = segments[j];
+      const double len_b = b.length();
+      if (static_cast<int>(j) == i || len_b < 1e-9 || std::abs(dir_a.dot((b.p1 - b.p0) / len_b)) > cos_limit)
+        continue;
+      Eigen::Vector2d x;
+      if (!intersectLines(a, b, x))
+        continue;
+      const double t = (x - a.p0).dot(dir_a);
+      if (t < params.min_side_px || t > len_a - params.min_side_px)
+        continue;
+      const double gap = params.corner_proximity_ratio * len_b + 3.0;
+      if (std::min((x - b.p0).norm(), (x - b.p1).norm()) > gap)
+        continue;
+      cuts.push_back(t);
+    }
+    if (cuts.empty())
+      continue;
+    std::sort(cuts.begin(), cuts.end());
+    // Junctions closer than 3 px are one; pieces: from each end to each junction, and between
+    // neighbouring junctions.
+    std::vector<double> at{cuts.front()};
+    for (double t : cuts)
+      if (t - at.back() > 3.0)
+        at.push_back(t);
+    auto piece = [&](double t0, double t1) {
+      if (t1 - t0 < params.min_side_px || out.size() >= max_total)
+        return;
+      ImageSegment s;
+      s.p0 = a.p0 + t0 * dir_a;
+      s.p1 = a.p0 + t1 * dir_a;
+      s.num_events = static_cast<int>(a.num_events * (t1 - t0) / len_a);
+      out.push_back(s);
+    };
+    for (size_t k = 0; k < at.size(); ++k)
+    {
+      piece(0.0, at[k]);
+      piece(at[k], len_a);
+      if (k + 1 < at.size())
+        piece(at[k], at[k + 1]);
+    }
+  }
+  return out;
+}
 
 bool findPolygon(const std::vector<ImageSegment>& segments, int num_sides, const PolygonSearchParams& params,
                  ImagePolygon& polygon)

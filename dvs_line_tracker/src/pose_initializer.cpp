@@ -36,6 +36,40 @@ struct CornerReprojection
   PinholeK k_;
 };
 
+/// A map point whose projection must lie on an image line n.x = d (n unit): one residual.
+struct PointOnLine
+{
+  PointOnLine(const Eigen::Vector2d& normal, double d, const Eigen::Vector3d& world, const PinholeK& k)
+    : normal_(normal), d_(d), world_(world), k_(k)
+  {
+  }
+  template <typename T>
+  bool operator()(const T* const aa, const T* const t, T* residual) const
+  {
+    const T pw[3] = {T(world_.x()), T(world_.y()), T(world_.z())};
+    T pc[3];
+    ceres::AngleAxisRotatePoint(aa, pw, pc);
+    pc[0] += t[0];
+    pc[1] += t[1];
+    pc[2] += t[2];
+    const T u = T(k_.fx) * pc[0] / pc[2] + T(k_.cx), v = T(k_.fy) * pc[1] / pc[2] + T(k_.cy);
+    residual[0] = T(normal_.x()) * u + T(normal_.y()) * v - T(d_);
+    return true;
+  }
+  Eigen::Vector2d normal_;
+  double d_;
+  Eigen::Vector3d world_;
+  PinholeK k_;
+};
+
+/// The image line through a and b as (unit normal, offset).
+void lineThrough(const Eigen::Vector2d& a, const Eigen::Vector2d& b, Eigen::Vector2d& normal, double& d)
+{
+  const Eigen::Vector2d dir = (b - a).normalized();
+  normal = Eigen::Vector2d(-dir.y(), dir.x());
+  d = normal.dot(a);
+}
+
 /// The pose of OpenCV's rotation matrix and translation (world -> camera).
 Pose poseFromCv(const cv::Matx33d& R, const double* t)
 {
@@ -127,6 +161,145 @@ Pose refinePoseReprojection(const Pose& initial, const PinholeK& k,
   if (!out.R_camera_world.allFinite() || !out.t_camera_world.allFinite())
     return initial;
   return out;
+}
+
+namespace
+{
+/// Refine `pose` so that the open polygon's corners in view reproject onto theirs (`world_known`)
+/// and the two missing map corners onto their outer sides' lines; the fit's RMS (px) into `rms`.
+Pose refineOpen(const Pose& initial, const PinholeK& k, const ImagePolygon& open,
+                const std::vector<Eigen::Vector3d>& world_known, const Eigen::Vector3d& world_first,
+                const Eigen::Vector3d& world_last, double& rms)
+{
+  double aa[3], t[3];
+  const Eigen::AngleAxisd angle_axis(initial.R_camera_world);
+  const Eigen::Vector3d aav = angle_axis.angle() * angle_axis.axis();
+  for (int i = 0; i < 3; ++i)
+  {
+    aa[i] = aav[i];
+    t[i] = initial.t_camera_world[i];
+  }
+  ceres::Problem problem;
+  for (size_t i = 0; i < open.corners.size(); ++i)
+    problem.AddResidualBlock(new ceres::AutoDiffCostFunction<CornerReprojection, 2, 3, 3>(
+                                 new CornerReprojection(open.corners[i], world_known[i], k)),
+                             nullptr, aa, t);
+  Eigen::Vector2d n_first, n_last;
+  double d_first, d_last;
+  lineThrough(open.open_first, open.corners.front(), n_first, d_first);
+  lineThrough(open.corners.back(), open.open_last, n_last, d_last);
+  problem.AddResidualBlock(new ceres::AutoDiffCostFunction<PointOnLine, 1, 3, 3>(
+                               new PointOnLine(n_first, d_first, world_first, k)),
+                           nullptr, aa, t);
+  problem.AddResidualBlock(new ceres::AutoDiffCostFunction<PointOnLine, 1, 3, 3>(
+                               new PointOnLine(n_last, d_last, world_last, k)),
+                           nullptr, aa, t);
+  ceres::Solver::Options options;
+  options.linear_solver_type = ceres::DENSE_QR;
+  options.max_num_iterations = 30;
+  options.logging_type = ceres::SILENT;
+  ceres::Solver::Summary summary;
+  ceres::Solve(options, &problem, &summary);
+  Pose out;
+  const Eigen::Vector3d w(aa[0], aa[1], aa[2]);
+  out.R_camera_world = w.norm() > 1e-12 ? Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix()
+                                        : Eigen::Matrix3d::Identity();
+  out.t_camera_world = Eigen::Vector3d(t[0], t[1], t[2]);
+  rms = std::numeric_limits<double>::infinity();
+  if (!out.R_camera_world.allFinite() || !out.t_camera_world.allFinite())
+    return initial;
+  const int residuals = 2 * static_cast<int>(open.corners.size()) + 2;
+  rms = std::sqrt(2.0 * summary.final_cost / residuals);
+  return out;
+}
+}  // namespace
+
+bool estimateInitialPoseOpen(const ImagePolygon& open, const LineMap& map, const PinholeK& k,
+                             const PoseInitParams& params, InitialPose& result, int only_polygon)
+{
+  const int n = static_cast<int>(open.corners.size()) + 2;
+  if (!open.open || n < 4)
+    return false;
+  bool found = false;
+  for (size_t pi = 0; pi < map.polygons.size(); ++pi)
+  {
+    const MapPolygon& poly = map.polygons[pi];
+    if (static_cast<int>(poly.corners_world.size()) != n || (only_polygon >= 0 && static_cast<int>(pi) != only_polygon))
+      continue;
+    // Completed corners c[0..n-1]: c[1..n-2] in view, c[0] and c[n-1] on the outer sides at the
+    // mean length of the sides in view (the assignment, and so the map's side ratios, is
+    // chosen by estimateInitialPose on these corners: a guess, refined below).
+    double inner_px = 0;
+    for (size_t i = 0; i + 1 < open.corners.size(); ++i)
+      inner_px += (open.corners[i + 1] - open.corners[i]).norm();
+    double side_px = open.corners.size() > 1 ? inner_px / static_cast<double>(open.corners.size() - 1) : 0.0;
+    if (side_px <= 0)  // not reached for n >= 4
+      continue;
+    std::vector<Eigen::Vector2d> completed;
+    completed.push_back(open.corners.front() + (open.open_first - open.corners.front()).normalized() * side_px);
+    completed.insert(completed.end(), open.corners.begin(), open.corners.end());
+    completed.push_back(open.corners.back() + (open.open_last - open.corners.back()).normalized() * side_px);
+    PoseInitParams loose = params;
+    loose.max_reprojection_rms_px = std::max(params.max_reprojection_rms_px, 0.25 * side_px);
+    loose.refine = false;
+    InitialPose guess;
+    if (!estimateInitialPose(completed, map, k, loose, guess, static_cast<int>(pi)))
+      continue;
+    std::vector<Eigen::Vector3d> world_known;
+    for (int i = 1; i + 1 < n; ++i)
+      world_known.push_back(poly.corners_world[guess.corner_assignment[i]]);
+    const Eigen::Vector3d& world_first = poly.corners_world[guess.corner_assignment[0]];
+    const Eigen::Vector3d& world_last = poly.corners_world[guess.corner_assignment[n - 1]];
+    // The missing side lies beyond the outer sides' detected ends (else it would be in view).
+    auto beyondEnds = [&](const Pose& pose) {
+      const Eigen::Vector3d a = pose.toCamera(world_first), b = pose.toCamera(world_last);
+      if (a.z() <= 1e-6 || b.z() <= 1e-6)
+        return false;
+      const Eigen::Vector2d fa = k.project(a), lb = k.project(b);
+      const Eigen::Vector2d u_first = (open.open_first - open.corners.front()).normalized();
+      const Eigen::Vector2d u_last = (open.open_last - open.corners.back()).normalized();
+      constexpr double kSlackPx = 3.0;
+      return (fa - open.corners.front()).dot(u_first) >= (open.open_first - open.corners.front()).norm() - kSlackPx &&
+             (lb - open.corners.back()).dot(u_last) >= (open.open_last - open.corners.back()).norm() - kSlackPx;
+    };
+    std::vector<Pose> fits;
+    std::vector<Pose> starts{guess.pose};
+    starts.insert(starts.end(), guess.alternatives.begin(), guess.alternatives.end());
+    InitialPose out;
+    bool have = false;
+    for (const Pose& start : starts)
+    {
+      double rms = 0;
+      const Pose pose = refineOpen(start, k, open, world_known, world_first, world_last, rms);
+      if (!(rms <= params.max_reprojection_rms_px) || !viewedFromFront(poly, pose) || !beyondEnds(pose))
+        continue;
+      bool distinct = true;
+      for (const Pose& f : fits)
+        distinct &= positionError(f, pose) > 0.01 * pose.p_world_camera().norm() ||
+                    orientationError(f, pose) > 1.0 * M_PI / 180;
+      if (!distinct)
+        continue;
+      fits.push_back(pose);
+      if (!have)
+      {
+        have = true;
+        out = guess;
+        out.pose = pose;
+        out.reprojection_rms_px = rms;
+        out.alternatives.clear();
+      }
+      else
+        out.alternatives.push_back(pose);
+    }
+    if (!have)
+      continue;
+    if (!found || out.up_score > result.up_score + 1e-6)
+    {
+      found = true;
+      result = out;
+    }
+  }
+  return found;
 }
 
 bool estimateInitialPose(const std::vector<Eigen::Vector2d>& corners_ideal_px, const LineMap& map, const PinholeK& k,

@@ -13,6 +13,13 @@ namespace
 /// more confirmation.
 constexpr double kInferredOutlineRatio = 0.25;
 
+/// Open polygons' outer ends must lie this fraction of the image size from its border (or
+/// beyond): with a distorted lens the sensor's border is curved in the ideal image.
+constexpr double kOpenBorderRatio = 0.06;
+
+/// Open polygons' poses must explain this fraction of the Hough window's events.
+constexpr double kOpenMinExplained = 0.5;
+
 /// The planar-PnP twin replaces the corners' pose when it explains this much more evidence.
 constexpr double kTwinMargin = 1.1;
 
@@ -49,7 +56,7 @@ std::string InitializerStats::json() const
 {
   const std::pair<const char*, uint64_t> fields[] = {
       {"attempts", attempts},         {"segments", segments},         {"polygons", polygons},
-      {"cut_by_border", cut_by_border}, {"pose_failed", pose_failed}, {"coverage_failed", coverage_failed},
+      {"cut_by_border", cut_by_border}, {"pose_failed", pose_failed}, {"coverage_failed", coverage_failed}, {"unexplained", unexplained},
       {"ambiguous", ambiguous},       {"unconfirmed", unconfirmed},   {"declined", declined},
       {"accepted", accepted},         {"prior_attempts", prior_attempts}, {"prior_accepted", prior_accepted}};
   std::string out = "{";
@@ -178,16 +185,42 @@ bool TrackerInitializer::tryInitialize(const StartTracking& start)
                  segments.end());
   ++stats_.attempts;
   stats_.segments += segments.size();
+  // The polygons of the detected segments first, then those that need a segment split where
+  // another one meets it (collinear sides of neighbouring polygons detected as one segment).
+  std::vector<ImagePolygon> polygons;
+  for (int sides : side_counts_)
+    for (ImagePolygon& polygon : findPolygons(segments, sides, params_.polygon, 8))
+      polygons.push_back(std::move(polygon));
+  const std::vector<ImageSegment> split = splitAtJunctions(segments, params_.polygon);
+  if (split.size() > segments.size())
+    for (int sides : side_counts_)
+      for (ImagePolygon& polygon : findPolygons(split, sides, params_.polygon, 8))
+        if (std::none_of(polygons.begin(), polygons.end(), [&](const ImagePolygon& q) { return sameCorners(q, polygon); }))
+          polygons.push_back(std::move(polygon));
   const RecentEvents recent = recentEvents();
   const double m = params_.init_border_margin_px, w = geometry_.width - 1.0, h = geometry_.height - 1.0;
-  for (int sides : side_counts_)
-    for (const ImagePolygon& polygon : findPolygons(segments, sides, params_.polygon, 8))
+  // When no whole polygon starts tracking: polygons with one side out of view (a partial view
+  // with a side beyond the border), searched only then.
+  bool open_added = false;
+  for (size_t index = 0; index < polygons.size() || !open_added; ++index)
     {
+      if (index == polygons.size())
+      {
+        open_added = true;
+        const double border = std::max(m, kOpenBorderRatio * std::max(w, h));
+        for (int sides : side_counts_)
+          for (ImagePolygon& polygon : findOpenPolygons(split, sides, params_.polygon, geometry_.width,
+                                                        geometry_.height, border, 8))
+            polygons.push_back(std::move(polygon));
+        if (index == polygons.size())
+          break;
+      }
+      const ImagePolygon& polygon = polygons[index];
       ++stats_.polygons;
       // Corners may lie outside the image (a partial view): the validation below then checks
       // the sides that are in view.
       for (const auto& c : polygon.corners)
-        if (c.x() < m || c.y() < m || c.x() > w - m || c.y() > h - m)
+        if (polygon.open || c.x() < m || c.y() < m || c.x() > w - m || c.y() > h - m)
         {
           ++stats_.cut_by_border;
           break;
@@ -205,9 +238,12 @@ bool TrackerInitializer::tryInitialize(const StartTracking& start)
       for (size_t pi = 0; pi < geometry_.map.polygons.size(); ++pi)
       {
         InitialPose candidate;
-        if (static_cast<int>(geometry_.map.polygons[pi].corners_world.size()) != sides ||
-            !estimateInitialPose(polygon.corners, geometry_.map, geometry_.k, params_.init, candidate,
-                                 static_cast<int>(pi)))
+        const size_t corners = polygon.corners.size() + (polygon.open ? 2 : 0);
+        if (geometry_.map.polygons[pi].corners_world.size() != corners ||
+            !(polygon.open ? estimateInitialPoseOpen(polygon, geometry_.map, geometry_.k, params_.init, candidate,
+                                                     static_cast<int>(pi))
+                           : estimateInitialPose(polygon.corners, geometry_.map, geometry_.k, params_.init,
+                                                 candidate, static_cast<int>(pi))))
           continue;
         any_pose = true;
         // The corners' pose, or its planar-PnP twin when that explains clearly more of the
@@ -251,10 +287,20 @@ bool TrackerInitializer::tryInitialize(const StartTracking& start)
         ++stats_.ambiguous;
         continue;
       }
+      // An open polygon is matched from fewer sides: its pose must also explain most of the
+      // recent events (a square's three sides taken for the other square of a pair validated
+      // its visible sides and left the real square's events unexplained: 0.28-0.34 of them
+      // explained in the sweep's false initialisations, 0.6-1.0 in its correct ones).
+      if (polygon.open && explainedFraction(init.pose, recent) < kOpenMinExplained)
+      {
+        ++stats_.unexplained;
+        continue;
+      }
       // The more of a polygon's outline is inferred rather than seen (sides stopping short of
       // their corners), the more it must repeat itself: one more agreeing detection when the
       // gaps exceed a quarter of the perimeter (a walking person's limbs made such a square).
-      if (!confirmed(init.pose, polygon.gap_px > kInferredOutlineRatio * polygon.perimeter() ? 1 : 0))
+      // An open polygon's missing side is inferred too.
+      if (!confirmed(init.pose, polygon.open || polygon.gap_px > kInferredOutlineRatio * polygon.perimeter() ? 1 : 0))
       {
         ++stats_.unconfirmed;
         return false;
@@ -331,6 +377,31 @@ Pose TrackerInitializer::refineWithWindowEvents(const Pose& initial, const Recen
   if (positionError(pose, initial) > 0.3 * initial.p_world_camera().norm() || !pose.t_camera_world.allFinite())
     return initial;
   return pose;
+}
+
+double TrackerInitializer::explainedFraction(const Pose& pose, const RecentEvents& recent) const
+{
+  if (recent.window.empty())
+    return 0.0;
+  std::vector<ProjectedSegment> projected;
+  for (const auto& seg : geometry_.map.segments)
+  {
+    const Eigen::Vector3d a = pose.toCamera(seg.p0_world), b = pose.toCamera(seg.p1_world);
+    if (a.z() <= params_.min_depth_m || b.z() <= params_.min_depth_m)
+      continue;
+    ProjectedSegment ps;
+    ps.set(geometry_.k.project(a), geometry_.k.project(b));
+    projected.push_back(ps);
+  }
+  size_t explained = 0;
+  for (const auto& p : recent.window)
+    for (const auto& ps : projected)
+      if (ps.orthogonalDistance(p) <= params_.attribution.max_orthogonal_px && ps.parallelDistance(p) <= 0)
+      {
+        ++explained;
+        break;
+      }
+  return static_cast<double>(explained) / static_cast<double>(recent.window.size());
 }
 
 TrackerInitializer::Coverage TrackerInitializer::sideCoverage(const Pose& pose, const RecentEvents& recent) const

@@ -5,6 +5,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+
 using namespace dvs_line_tracker;
 
 namespace
@@ -110,6 +113,121 @@ TEST(PolygonSearch, FindsTrianglesAndPentagonsOfGeneralMaps)
       best = std::min(best, (c - e).norm());
     EXPECT_LT(best, 1e-6);
   }
+}
+
+TEST(PolygonSearch, SplitsTheCollinearSidesOfNeighbouringPolygons)
+{
+  // Two squares side by side whose top and bottom sides are collinear: the Hough detector
+  // returns one segment for both tops and one for both bottoms.
+  const std::vector<ImageSegment> segs = {
+      seg(12, 30, 118, 30),   // both tops
+      seg(118, 90, 12, 90),   // both bottoms
+      seg(10, 88, 10, 32),    // left square, left side
+      seg(55, 33, 55, 87),    // left square, right side
+      seg(75, 88, 75, 32),    // right square, left side
+      seg(120, 32, 120, 88),  // right square, right side
+  };
+  // Without splitting, the only square-like polygons use the whole tops and bottoms.
+  for (const auto& poly : findPolygons(segs, 4, PolygonSearchParams(), 8))
+    for (const auto& c : poly.corners)
+      EXPECT_TRUE(std::abs(c.x() - 10) < 1e-6 || std::abs(c.x() - 120) < 1e-6 || std::abs(c.x() - 55) < 1e-6 ||
+                  std::abs(c.x() - 75) < 1e-6);
+  const std::vector<ImageSegment> split = splitAtJunctions(segs, PolygonSearchParams());
+  ASSERT_GT(split.size(), segs.size());
+  for (size_t i = 0; i < segs.size(); ++i)  // the detected segments come first, unchanged
+    EXPECT_EQ(split[i].p0, segs[i].p0);
+  // Both squares are found from the pieces, with exact corners.
+  const std::vector<std::vector<Eigen::Vector2d>> squares = {{{10, 30}, {55, 30}, {55, 90}, {10, 90}},
+                                                             {{75, 30}, {120, 30}, {120, 90}, {75, 90}}};
+  const auto found = findPolygons(split, 4, PolygonSearchParams(), 16);
+  for (const auto& square : squares)
+  {
+    bool have = false;
+    for (const auto& poly : found)
+    {
+      int matched = 0;
+      for (const auto& e : square)
+        for (const auto& c : poly.corners)
+          matched += (c - e).norm() < 1e-6 ? 1 : 0;
+      have |= matched == 4;
+    }
+    EXPECT_TRUE(have) << "square at x " << square[0].x();
+  }
+  // A segment crossed in its middle by a line that does not end there is not split.
+  EXPECT_EQ(splitAtJunctions({seg(10, 50, 110, 50), seg(60, 10, 60, 100)}, PolygonSearchParams()).size(), 2u);
+}
+
+TEST(PolygonSearch, FindsPolygonsWithOneSideOutOfView)
+{
+  // A square whose bottom side lies below a 128x128 image: three sides reach or cross the
+  // border, the fourth is missing.
+  const std::vector<ImageSegment> segs = {
+      seg(25, 30, 95, 30),    // top, shortened
+      seg(100, 35, 100, 127),  // right, to the border
+      seg(20, 127, 20, 35),    // left, from the border
+      seg(40, 60, 70, 61),     // a distractor
+  };
+  ImagePolygon closed;
+  EXPECT_FALSE(findPolygon(segs, 4, PolygonSearchParams(), closed));
+  const auto open = findOpenPolygons(segs, 4, PolygonSearchParams(), 128, 128, 4.0, 8);
+  // The chain through the distractor is a candidate too (the pose fit and the validation on the
+  // events judge it); the true one meets best.
+  ASSERT_GE(open.size(), 1u);
+  ASSERT_TRUE(open[0].open);
+  ASSERT_EQ(open[0].corners.size(), 2u);
+  for (const Eigen::Vector2d& e : {Eigen::Vector2d(20, 30), Eigen::Vector2d(100, 30)})
+    EXPECT_LT(std::min((open[0].corners[0] - e).norm(), (open[0].corners[1] - e).norm()), 1e-6);
+  EXPECT_GT(open[0].open_first.y(), 120);
+  EXPECT_GT(open[0].open_last.y(), 120);
+  // The same chain ending inside the image is no partial view.
+  const std::vector<ImageSegment> inside = {seg(25, 30, 95, 30), seg(100, 35, 100, 90), seg(20, 90, 20, 35)};
+  EXPECT_TRUE(findOpenPolygons(inside, 4, PolygonSearchParams(), 128, 128, 4.0, 8).empty());
+  // Triangles have too few sides left to fix a pose.
+  EXPECT_TRUE(findOpenPolygons(segs, 3, PolygonSearchParams(), 128, 128, 4.0, 8).empty());
+}
+
+TEST(PoseInit, ExactPoseFromAPolygonWithOneSideOutOfView)
+{
+  const LineMap map = defaultSquareMap();
+  const Pose truth = lookAt({0.2, 0.55, 1.0}, {0.1, 0.45, 0}, {0, 1, 0}, 0.15);
+  const auto c = projectCorners(map, truth);
+  // The corners at the bottom of the image (largest y) are out of view.
+  std::vector<int> order = {0, 1, 2, 3};
+  std::sort(order.begin(), order.end(), [&](int a, int b) { return c[a].y() < c[b].y(); });
+  const int top0 = order[0], top1 = order[1];
+  ASSERT_TRUE((top0 + 1) % 4 == top1 || (top1 + 1) % 4 == top0) << "the two top corners share a side";
+  const int first = (top0 + 1) % 4 == top1 ? top0 : top1, last = first == top0 ? top1 : top0;
+  const int missing_first = (first + 3) % 4, missing_last = (last + 1) % 4;
+  ASSERT_GT(c[missing_first].y(), 127.0);
+  ASSERT_GT(c[missing_last].y(), 127.0);
+  auto atBorder = [](const Eigen::Vector2d& in, const Eigen::Vector2d& out) {
+    return Eigen::Vector2d(in + (out - in) * ((127.0 - in.y()) / (out.y() - in.y())));
+  };
+  ImagePolygon open;
+  open.open = true;
+  open.corners = {c[first], c[last]};
+  open.open_first = atBorder(c[first], c[missing_first]);
+  open.open_last = atBorder(c[last], c[missing_last]);
+  InitialPose init;
+  ASSERT_TRUE(estimateInitialPoseOpen(open, map, kK, PoseInitParams(), init));
+  EXPECT_LT(init.reprojection_rms_px, 1e-3);
+  const bool exact = positionError(init.pose, truth) < 1e-4 && orientationError(init.pose, truth) < 1e-4;
+  bool twin_exact = false;
+  for (const Pose& p : init.alternatives)
+    twin_exact |= positionError(p, truth) < 1e-4 && orientationError(p, truth) < 1e-4;
+  EXPECT_TRUE(exact || twin_exact);
+  EXPECT_TRUE(exact) << "the up hint picks the true roll";
+  // Sides detected beyond the only consistent missing corners: that side would be in view.
+  ImagePolygon too_long = open;
+  too_long.open_first = c[missing_first] + 15 * (c[missing_first] - c[first]).normalized();
+  too_long.open_last = c[missing_last] + 15 * (c[missing_last] - c[last]).normalized();
+  InitialPose none;
+  EXPECT_FALSE(estimateInitialPoseOpen(too_long, map, kK, PoseInitParams(), none) &&
+               positionError(none.pose, truth) < 0.05);
+  // A closed polygon is not an open one.
+  ImagePolygon closed = open;
+  closed.open = false;
+  EXPECT_FALSE(estimateInitialPoseOpen(closed, map, kK, PoseInitParams(), none));
 }
 
 TEST(PoseInit, ExactPoseFromNoiseFreeCornersInAnyOrderAndRoll)

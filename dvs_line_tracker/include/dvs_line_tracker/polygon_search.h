@@ -29,13 +29,41 @@ struct ImagePolygon
   std::vector<Eigen::Vector2d> corners;
   std::vector<int> segment_ids;  ///< indices into the searched segments, one per side
   double gap_px = 0;             ///< summed distances of the sides' ends from their corners
+  /// An open polygon (findOpenPolygons): one side out of view. `corners` then holds the n-2
+  /// corners in view (corners[k] where side k meets side k+1 of the n-1 sides found); the
+  /// first side runs from `open_first` to corners.front(), the last from corners.back() to
+  /// `open_last` (both ends at the image border).
+  bool open = false;
+  Eigen::Vector2d open_first = Eigen::Vector2d::Zero(), open_last = Eigen::Vector2d::Zero();
   double perimeter() const;
   /// Signed area (shoelace, image coordinates, y down).
   double signedArea() const;
 };
 
+/// The same polygon: as many corners, each within 0.5 px of one of the other's (in any order),
+/// both open or both closed.
+bool sameCorners(const ImagePolygon& a, const ImagePolygon& b);
+
 /// Intersection of the infinite lines through two segments; false when (nearly) parallel.
 bool intersectLines(const ImageSegment& a, const ImageSegment& b, Eigen::Vector2d& point);
+
+/// Polygons of `num_sides` (>= 4) sides with one side out of view: chains of num_sides - 1
+/// sides meeting as in findPolygon whose two outer ends reach the border of the image
+/// [0, width - 1] x [0, height - 1] (within `border_px`, or beyond it). Up to `max_polygons`,
+/// sorted by gap_px.
+std::vector<ImagePolygon> findOpenPolygons(const std::vector<ImageSegment>& segments, int num_sides,
+                                           const PolygonSearchParams& params, double width, double height,
+                                           double border_px, int max_polygons);
+
+/// `segments` followed by the pieces of every segment in whose interior the line of another
+/// segment ends (a T or L junction): neighbouring polygons with collinear sides (two squares
+/// side by side, a triangle on a square's base line) are detected as one long segment whose
+/// corners lie inside it; its pieces between junctions are the polygons' sides. Junctions are
+/// where the other segment (turning by min..max_turn_angle_deg) has an end within the corner
+/// gap, at least min_side_px from both ends of the split segment. At most
+/// 2 * segments.size() pieces are added (longest segments first).
+std::vector<ImageSegment> splitAtJunctions(const std::vector<ImageSegment>& segments,
+                                           const PolygonSearchParams& params);
 
 /// The polygon with `num_sides` sides whose sides meet best (smallest gap_px among the first 8
 /// found, longer segments first). Returns false when there is none.

@@ -8,6 +8,7 @@
 // minimising the corners' reprojection error with Ceres.
 #include <dvs_line_tracker/pose_types.h>
 #include <dvs_line_tracker/line_map.h>
+#include <dvs_line_tracker/polygon_search.h>
 
 #include <Eigen/Core>
 #include <vector>
@@ -55,6 +56,16 @@ double cornerReprojectionRms(const Pose& pose, const PinholeK& k, const std::vec
 /// `only_polygon` >= 0: match the corners to that map polygon only.
 bool estimateInitialPose(const std::vector<Eigen::Vector2d>& corners_ideal_px, const LineMap& map, const PinholeK& k,
                          const PoseInitParams& params, InitialPose& result, int only_polygon = -1);
+
+/// The same from an open polygon (one side out of view; polygon_search.h findOpenPolygons): its
+/// two missing corners are first placed where the map polygon's side-length ratios put them
+/// along the outer sides, the completed corners solved as above (with a tolerance for that
+/// guess), and the pose then refined so that the corners in view reproject onto theirs and the
+/// missing ones onto their sides' lines (2n - 2 residuals for 6 unknowns: n >= 4). The fit
+/// must reach max_reprojection_rms_px, and the missing side must lie beyond the outer sides'
+/// detected ends. `reprojection_rms_px` is that fit's; `alternatives` as above.
+bool estimateInitialPoseOpen(const ImagePolygon& open, const LineMap& map, const PinholeK& k,
+                             const PoseInitParams& params, InitialPose& result, int only_polygon = -1);
 
 /// Ceres refinement of T_cam_world minimising the corners' reprojection error.
 Pose refinePoseReprojection(const Pose& initial, const PinholeK& k,

@@ -2,7 +2,9 @@
 // (Re-)initialisation (thesis 4.2.1): the events vote in a Hough accumulator over a sliding
 // window (its event counts and gaps scaled to the sensor size); every few hundred voted events
 // the detected segments are filtered (not along the image border), assembled into image
-// polygons with the map's side counts (corners may lie outside the image: partial views), and
+// polygons with the map's side counts (corners may lie outside the image: partial views; then
+// from segments split at junctions; then, when none started tracking, polygons with one side
+// out of view, whose poses must also explain most of the window's events), and
 // each polygon's corners give one pose hypothesis per map polygon of that side count
 // (pose_initializer.h), refined on the window's events near the projected map
 // (point-to-line), validated (every visible map side covered by recent voted events, a quiet
@@ -32,6 +34,7 @@ struct InitializerStats
   uint64_t cut_by_border = 0;         ///< polygons with a corner at or beyond the image border (partial views; still tried)
   uint64_t pose_failed = 0;           ///< polygons whose corners gave no consistent pose
   uint64_t coverage_failed = 0;       ///< poses whose projected map was not backed by window events
+  uint64_t unexplained = 0;           ///< open polygons (one side out of view) whose pose left most recent events unexplained
   uint64_t ambiguous = 0;             ///< two map polygons explained the events about equally well
   uint64_t unconfirmed = 0;           ///< valid detections waiting for an agreeing one
   uint64_t declined = 0;              ///< confirmed poses the tracker declined (too little map in view)
@@ -92,6 +95,9 @@ private:
   /// within the attribution distance (min_fraction 0 when fewer than min_visible_segments are
   /// visible or a polygon's inside is busy).
   Coverage sideCoverage(const Pose& pose, const RecentEvents& recent) const;
+  /// Fraction of the Hough window's events within the attribution distance of a projected map
+  /// segment (the evidence `pose` explains, whatever it leaves out).
+  double explainedFraction(const Pose& pose, const RecentEvents& recent) const;
 
   const TrackingGeometry& geometry_;
   const LineTrackerParams& params_;
