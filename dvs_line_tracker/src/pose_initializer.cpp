@@ -62,6 +62,35 @@ struct PointOnLine
   PinholeK k_;
 };
 
+/// A pose as Ceres parameters: angle-axis rotation and translation (world -> camera).
+void poseToParameters(const Pose& pose, double aa[3], double t[3])
+{
+  const Eigen::AngleAxisd angle_axis(pose.R_camera_world);
+  const Eigen::Vector3d aav = angle_axis.angle() * angle_axis.axis();
+  for (int i = 0; i < 3; ++i)
+  {
+    aa[i] = aav[i];
+    t[i] = pose.t_camera_world[i];
+  }
+}
+
+/// Solve `problem` over (aa, t) silently; the pose they hold after it into `out`. False when
+/// that pose is not finite.
+bool solvePose(ceres::Problem& problem, double aa[3], double t[3], int iterations, ceres::Solver::Summary& summary,
+               Pose& out)
+{
+  ceres::Solver::Options options;
+  options.linear_solver_type = ceres::DENSE_QR;
+  options.max_num_iterations = iterations;
+  options.logging_type = ceres::SILENT;
+  ceres::Solve(options, &problem, &summary);
+  const Eigen::Vector3d w(aa[0], aa[1], aa[2]);
+  out.R_camera_world = w.norm() > 1e-12 ? Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix()
+                                        : Eigen::Matrix3d::Identity();
+  out.t_camera_world = Eigen::Vector3d(t[0], t[1], t[2]);
+  return out.R_camera_world.allFinite() && out.t_camera_world.allFinite();
+}
+
 /// The image line through a and b as (unit normal, offset).
 void lineThrough(const Eigen::Vector2d& a, const Eigen::Vector2d& b, Eigen::Vector2d& normal, double& d)
 {
@@ -135,32 +164,15 @@ Pose refinePoseReprojection(const Pose& initial, const PinholeK& k,
                                   const std::vector<Eigen::Vector2d>& image, const std::vector<Eigen::Vector3d>& world)
 {
   double aa[3], t[3];
-  const Eigen::AngleAxisd angle_axis(initial.R_camera_world);
-  const Eigen::Vector3d aav = angle_axis.angle() * angle_axis.axis();
-  for (int i = 0; i < 3; ++i)
-  {
-    aa[i] = aav[i];
-    t[i] = initial.t_camera_world[i];
-  }
+  poseToParameters(initial, aa, t);
   ceres::Problem problem;
   for (size_t i = 0; i < image.size(); ++i)
     problem.AddResidualBlock(new ceres::AutoDiffCostFunction<CornerReprojection, 2, 3, 3>(
                                  new CornerReprojection(image[i], world[i], k)),
                              nullptr, aa, t);
-  ceres::Solver::Options options;
-  options.linear_solver_type = ceres::DENSE_QR;
-  options.max_num_iterations = 20;
-  options.logging_type = ceres::SILENT;
   ceres::Solver::Summary summary;
-  ceres::Solve(options, &problem, &summary);
   Pose out;
-  const Eigen::Vector3d w(aa[0], aa[1], aa[2]);
-  out.R_camera_world = w.norm() > 1e-12 ? Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix()
-                                     : Eigen::Matrix3d::Identity();
-  out.t_camera_world = Eigen::Vector3d(t[0], t[1], t[2]);
-  if (!out.R_camera_world.allFinite() || !out.t_camera_world.allFinite())
-    return initial;
-  return out;
+  return solvePose(problem, aa, t, 20, summary, out) ? out : initial;
 }
 
 namespace
@@ -172,13 +184,7 @@ Pose refineOpen(const Pose& initial, const PinholeK& k, const ImagePolygon& open
                 const Eigen::Vector3d& world_last, double& rms)
 {
   double aa[3], t[3];
-  const Eigen::AngleAxisd angle_axis(initial.R_camera_world);
-  const Eigen::Vector3d aav = angle_axis.angle() * angle_axis.axis();
-  for (int i = 0; i < 3; ++i)
-  {
-    aa[i] = aav[i];
-    t[i] = initial.t_camera_world[i];
-  }
+  poseToParameters(initial, aa, t);
   ceres::Problem problem;
   for (size_t i = 0; i < open.corners.size(); ++i)
     problem.AddResidualBlock(new ceres::AutoDiffCostFunction<CornerReprojection, 2, 3, 3>(
@@ -194,19 +200,10 @@ Pose refineOpen(const Pose& initial, const PinholeK& k, const ImagePolygon& open
   problem.AddResidualBlock(new ceres::AutoDiffCostFunction<PointOnLine, 1, 3, 3>(
                                new PointOnLine(n_last, d_last, world_last, k)),
                            nullptr, aa, t);
-  ceres::Solver::Options options;
-  options.linear_solver_type = ceres::DENSE_QR;
-  options.max_num_iterations = 30;
-  options.logging_type = ceres::SILENT;
   ceres::Solver::Summary summary;
-  ceres::Solve(options, &problem, &summary);
   Pose out;
-  const Eigen::Vector3d w(aa[0], aa[1], aa[2]);
-  out.R_camera_world = w.norm() > 1e-12 ? Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix()
-                                        : Eigen::Matrix3d::Identity();
-  out.t_camera_world = Eigen::Vector3d(t[0], t[1], t[2]);
   rms = std::numeric_limits<double>::infinity();
-  if (!out.R_camera_world.allFinite() || !out.t_camera_world.allFinite())
+  if (!solvePose(problem, aa, t, 30, summary, out) || !summary.IsSolutionUsable())
     return initial;
   const int residuals = 2 * static_cast<int>(open.corners.size()) + 2;
   rms = std::sqrt(2.0 * summary.final_cost / residuals);
@@ -218,7 +215,8 @@ bool estimateInitialPoseOpen(const ImagePolygon& open, const LineMap& map, const
                              const PoseInitParams& params, InitialPose& result, int only_polygon)
 {
   const int n = static_cast<int>(open.corners.size()) + 2;
-  if (!open.open || n < 4)
+  if (!open.open || n < 4 || (open.open_first - open.corners.front()).norm() < 1e-6 ||
+      (open.open_last - open.corners.back()).norm() < 1e-6)
     return false;
   bool found = false;
   for (size_t pi = 0; pi < map.polygons.size(); ++pi)
