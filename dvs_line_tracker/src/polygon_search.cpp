@@ -144,17 +144,24 @@ private:
     return true;
   }
 
+  /// The corner where side `a` meets side `b`, appended to `poly` with its gap.
+  bool addCorner(const Oriented& a, const Oriented& b, ImagePolygon& poly) const
+  {
+    Eigen::Vector2d corner;
+    if (!meets(a, b, &corner))
+      return false;
+    poly.gap_px += (corner - a.far_end).norm() + (corner - b.near_end).norm();
+    poly.corners.push_back(corner);
+    return true;
+  }
+
   bool closes(ImagePolygon& out) const
   {
     ImagePolygon poly;
     for (int k = 0; k < n_; ++k)
     {
-      Eigen::Vector2d corner;
-      const Oriented& prev = chain_[(k + n_ - 1) % n_];
-      if (!meets(prev, chain_[k], &corner))
+      if (!addCorner(chain_[(k + n_ - 1) % n_], chain_[k], poly))
         return false;
-      poly.gap_px += (corner - prev.far_end).norm() + (corner - chain_[k].near_end).norm();
-      poly.corners.push_back(corner);
       poly.segment_ids.push_back(chain_[k].id);
     }
     for (int k = 0; k < n_; ++k)
@@ -174,16 +181,12 @@ private:
   {
     ImagePolygon poly;
     poly.open = true;
-    for (int k = 0; k + 1 < chain_length_; ++k)
-    {
-      Eigen::Vector2d corner;
-      if (!meets(chain_[k], chain_[k + 1], &corner))
-        return false;
-      poly.gap_px += (corner - chain_[k].far_end).norm() + (corner - chain_[k + 1].near_end).norm();
-      poly.corners.push_back(corner);
-    }
     for (int k = 0; k < chain_length_; ++k)
+    {
+      if (k + 1 < chain_length_ && !addCorner(chain_[k], chain_[k + 1], poly))
+        return false;
       poly.segment_ids.push_back(chain_[k].id);
+    }
     poly.open_first = chain_.front().near_end;
     poly.open_last = chain_.back().far_end;
     if (!atBorder(poly.open_first) || !atBorder(poly.open_last))

@@ -5,6 +5,7 @@
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/eigen.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -12,6 +13,20 @@ namespace dvs_line_tracker
 {
 namespace
 {
+/// The ideal pixel (u, v) of world point `world` at the pose (angle-axis aa, translation t).
+template <typename T>
+void projectToPixel(const T* const aa, const T* const t, const Eigen::Vector3d& world, const PinholeK& k, T& u, T& v)
+{
+  const T pw[3] = {T(world.x()), T(world.y()), T(world.z())};
+  T pc[3];
+  ceres::AngleAxisRotatePoint(aa, pw, pc);
+  pc[0] += t[0];
+  pc[1] += t[1];
+  pc[2] += t[2];
+  u = T(k.fx) * pc[0] / pc[2] + T(k.cx);
+  v = T(k.fy) * pc[1] / pc[2] + T(k.cy);
+}
+
 struct CornerReprojection
 {
   CornerReprojection(const Eigen::Vector2d& obs, const Eigen::Vector3d& world, const PinholeK& k)
@@ -21,14 +36,10 @@ struct CornerReprojection
   template <typename T>
   bool operator()(const T* const aa, const T* const t, T* residual) const
   {
-    const T pw[3] = {T(world_.x()), T(world_.y()), T(world_.z())};
-    T pc[3];
-    ceres::AngleAxisRotatePoint(aa, pw, pc);
-    pc[0] += t[0];
-    pc[1] += t[1];
-    pc[2] += t[2];
-    residual[0] = T(k_.fx) * pc[0] / pc[2] + T(k_.cx) - T(obs_.x());
-    residual[1] = T(k_.fy) * pc[1] / pc[2] + T(k_.cy) - T(obs_.y());
+    T u, v;
+    projectToPixel(aa, t, world_, k_, u, v);
+    residual[0] = u - T(obs_.x());
+    residual[1] = v - T(obs_.y());
     return true;
   }
   Eigen::Vector2d obs_;
@@ -46,13 +57,8 @@ struct PointOnLine
   template <typename T>
   bool operator()(const T* const aa, const T* const t, T* residual) const
   {
-    const T pw[3] = {T(world_.x()), T(world_.y()), T(world_.z())};
-    T pc[3];
-    ceres::AngleAxisRotatePoint(aa, pw, pc);
-    pc[0] += t[0];
-    pc[1] += t[1];
-    pc[2] += t[2];
-    const T u = T(k_.fx) * pc[0] / pc[2] + T(k_.cx), v = T(k_.fy) * pc[1] / pc[2] + T(k_.cy);
+    T u, v;
+    projectToPixel(aa, t, world_, k_, u, v);
     residual[0] = T(normal_.x()) * u + T(normal_.y()) * v - T(d_);
     return true;
   }
@@ -230,8 +236,8 @@ bool estimateInitialPoseOpen(const ImagePolygon& open, const LineMap& map, const
     double inner_px = 0;
     for (size_t i = 0; i + 1 < open.corners.size(); ++i)
       inner_px += (open.corners[i + 1] - open.corners[i]).norm();
-    double side_px = open.corners.size() > 1 ? inner_px / static_cast<double>(open.corners.size() - 1) : 0.0;
-    if (side_px <= 0)  // not reached for n >= 4
+    const double side_px = inner_px / static_cast<double>(open.corners.size() - 1);  // n >= 4: >= 2 corners
+    if (side_px <= 0)  // coincident corners
       continue;
     std::vector<Eigen::Vector2d> completed;
     completed.push_back(open.corners.front() + (open.open_first - open.corners.front()).normalized() * side_px);
@@ -260,7 +266,6 @@ bool estimateInitialPoseOpen(const ImagePolygon& open, const LineMap& map, const
       return (fa - open.corners.front()).dot(u_first) >= (open.open_first - open.corners.front()).norm() - kSlackPx &&
              (lb - open.corners.back()).dot(u_last) >= (open.open_last - open.corners.back()).norm() - kSlackPx;
     };
-    std::vector<Pose> fits;
     std::vector<Pose> starts{guess.pose};
     starts.insert(starts.end(), guess.alternatives.begin(), guess.alternatives.end());
     InitialPose out;
@@ -271,13 +276,12 @@ bool estimateInitialPoseOpen(const ImagePolygon& open, const LineMap& map, const
       const Pose pose = refineOpen(start, k, open, world_known, world_first, world_last, rms);
       if (!(rms <= params.max_reprojection_rms_px) || !viewedFromFront(poly, pose) || !beyondEnds(pose))
         continue;
-      bool distinct = true;
-      for (const Pose& f : fits)
-        distinct &= positionError(f, pose) > 0.01 * pose.p_world_camera().norm() ||
-                    orientationError(f, pose) > 1.0 * M_PI / 180;
-      if (!distinct)
+      auto same = [&](const Pose& f) {
+        return positionError(f, pose) <= 0.01 * pose.p_world_camera().norm() &&
+               orientationError(f, pose) <= 1.0 * M_PI / 180;
+      };
+      if (have && (same(out.pose) || std::any_of(out.alternatives.begin(), out.alternatives.end(), same)))
         continue;
-      fits.push_back(pose);
       if (!have)
       {
         have = true;

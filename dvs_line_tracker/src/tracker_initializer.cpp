@@ -198,125 +198,130 @@ bool TrackerInitializer::tryInitialize(const StartTracking& start)
         if (std::none_of(polygons.begin(), polygons.end(), [&](const ImagePolygon& q) { return sameCorners(q, polygon); }))
           polygons.push_back(std::move(polygon));
   const RecentEvents recent = recentEvents();
-  const double m = params_.init_border_margin_px, w = geometry_.width - 1.0, h = geometry_.height - 1.0;
-  // When no whole polygon starts tracking: polygons with one side out of view (a partial view
-  // with a side beyond the border), searched only then.
-  bool open_added = false;
-  for (size_t index = 0; index < polygons.size() || !open_added; ++index)
+  for (const ImagePolygon& polygon : polygons)
+  {
+    const Outcome o = tryPolygon(polygon, recent, start);
+    if (o != Outcome::kNext)
+      return o == Outcome::kStarted;
+  }
+  // When no whole polygon started tracking: polygons with one side out of view (a partial view
+  // with a side beyond the border).
+  const double border = std::max(params_.init_border_margin_px,
+                                 kOpenBorderRatio * (std::max(geometry_.width, geometry_.height) - 1.0));
+  for (int sides : side_counts_)
+    for (const ImagePolygon& polygon :
+         findOpenPolygons(split, sides, params_.polygon, geometry_.width, geometry_.height, border, 8))
     {
-      if (index == polygons.size())
-      {
-        open_added = true;
-        const double border = std::max(m, kOpenBorderRatio * std::max(w, h));
-        for (int sides : side_counts_)
-          for (ImagePolygon& polygon : findOpenPolygons(split, sides, params_.polygon, geometry_.width,
-                                                        geometry_.height, border, 8))
-            polygons.push_back(std::move(polygon));
-        if (index == polygons.size())
-          break;
-      }
-      const ImagePolygon& polygon = polygons[index];
-      ++stats_.polygons;
-      // Corners may lie outside the image (a partial view): the validation below then checks
-      // the sides that are in view.
-      for (const auto& c : polygon.corners)
-        if (polygon.open || c.x() < m || c.y() < m || c.x() > w - m || c.y() > h - m)
-        {
-          ++stats_.cut_by_border;
-          break;
-        }
-      // Each map polygon with this many sides is a hypothesis (several identical squares are
-      // told apart by the rest of the map): valid when every visible map side is covered by
-      // recent events (checking only the matched polygon's sides let wrong matches through:
-      // 8 false initialisations in the sweep instead of 2); the valid one whose projected map
-      // explains the most evidence wins, unless another explains nearly as much (ambiguous:
-      // wait until the view tells them apart).
-      bool have = false, any_pose = false;
-      InitialPose init;
-      Coverage best;
-      double runner_up_px = 0;
-      for (size_t pi = 0; pi < geometry_.map.polygons.size(); ++pi)
-      {
-        InitialPose candidate;
-        const size_t corners = polygon.corners.size() + (polygon.open ? 2 : 0);
-        if (geometry_.map.polygons[pi].corners_world.size() != corners ||
-            !(polygon.open ? estimateInitialPoseOpen(polygon, geometry_.map, geometry_.k, params_.init, candidate,
-                                                     static_cast<int>(pi))
-                           : estimateInitialPose(polygon.corners, geometry_.map, geometry_.k, params_.init,
-                                                 candidate, static_cast<int>(pi))))
-          continue;
-        any_pose = true;
-        // The corners' pose, or its planar-PnP twin when that explains clearly more of the
-        // recent events (the primary fits the corners best; in a weak-perspective view the two
-        // differ only in evidence beyond the corners, e.g. a second polygon's edges).
-        if (refine_events_ > 0)
-          candidate.pose = refineWithWindowEvents(candidate.pose, recent);
-        Coverage c = sideCoverage(candidate.pose, recent);
-        for (Pose twin : candidate.alternatives)
-        {
-          if (refine_events_ > 0)
-            twin = refineWithWindowEvents(twin, recent);
-          const Coverage ct = sideCoverage(twin, recent);
-          const bool primary_valid = c.min_fraction >= params_.init_min_coverage;
-          if (ct.min_fraction >= params_.init_min_coverage && (!primary_valid || ct.covered_px > kTwinMargin * c.covered_px))
-          {
-            candidate.pose = twin;
-            c = ct;
-          }
-        }
-        if (c.min_fraction < params_.init_min_coverage)
-          continue;
-        if (!have || c.covered_px > best.covered_px)
-        {
-          if (have && !samePose(init.pose, candidate.pose))
-            runner_up_px = std::max(runner_up_px, best.covered_px);
-          have = true;
-          init = candidate;
-          best = c;
-        }
-        else if (!samePose(init.pose, candidate.pose))
-          runner_up_px = std::max(runner_up_px, c.covered_px);
-      }
-      if (!have)
-      {
-        ++(any_pose ? stats_.coverage_failed : stats_.pose_failed);
-        continue;
-      }
-      if (runner_up_px > kAmbiguityRatio * best.covered_px)
-      {
-        ++stats_.ambiguous;
-        continue;
-      }
-      // An open polygon is matched from fewer sides: its pose must also explain most of the
-      // recent events (a square's three sides taken for the other square of a pair validated
-      // its visible sides and left the real square's events unexplained: 0.28-0.34 of them
-      // explained in the sweep's false initialisations, 0.6-1.0 in its correct ones).
-      if (polygon.open && explainedFraction(init.pose, recent) < kOpenMinExplained)
-      {
-        ++stats_.unexplained;
-        continue;
-      }
-      // The more of a polygon's outline is inferred rather than seen (sides stopping short of
-      // their corners), the more it must repeat itself: one more agreeing detection when the
-      // gaps exceed a quarter of the perimeter (a walking person's limbs made such a square).
-      // An open polygon's missing side is inferred too.
-      if (!confirmed(init.pose, polygon.open || polygon.gap_px > kInferredOutlineRatio * polygon.perimeter() ? 1 : 0))
-      {
-        ++stats_.unconfirmed;
-        return false;
-      }
-      recent_.clear();
-      if (!start(init.pose))
-      {
-        ++stats_.declined;
-        hough_.reset();
-        continue;
-      }
-      ++stats_.accepted;
-      last_polygon_ = polygon;
-      return true;
+      const Outcome o = tryPolygon(polygon, recent, start);
+      if (o != Outcome::kNext)
+        return o == Outcome::kStarted;
     }
   return false;
+}
+
+TrackerInitializer::Outcome TrackerInitializer::tryPolygon(const ImagePolygon& polygon, const RecentEvents& recent,
+                                                           const StartTracking& start)
+{
+  const double m = params_.init_border_margin_px, w = geometry_.width - 1.0, h = geometry_.height - 1.0;
+  ++stats_.polygons;
+  // Corners may lie outside the image (a partial view): the validation below then checks
+  // the sides that are in view.
+  for (const auto& c : polygon.corners)
+    if (polygon.open || c.x() < m || c.y() < m || c.x() > w - m || c.y() > h - m)
+    {
+      ++stats_.cut_by_border;
+      break;
+    }
+  // Each map polygon with this many sides is a hypothesis (several identical squares are
+  // told apart by the rest of the map): valid when every visible map side is covered by
+  // recent events (checking only the matched polygon's sides let wrong matches through:
+  // 8 false initialisations in the sweep instead of 2); the valid one whose projected map
+  // explains the most evidence wins, unless another explains nearly as much (ambiguous:
+  // wait until the view tells them apart).
+  bool have = false, any_pose = false;
+  InitialPose init;
+  Coverage best;
+  double runner_up_px = 0;
+  for (size_t pi = 0; pi < geometry_.map.polygons.size(); ++pi)
+  {
+    InitialPose candidate;
+    const size_t corners = polygon.corners.size() + (polygon.open ? 2 : 0);
+    if (geometry_.map.polygons[pi].corners_world.size() != corners ||
+        !(polygon.open ? estimateInitialPoseOpen(polygon, geometry_.map, geometry_.k, params_.init, candidate,
+                                                 static_cast<int>(pi))
+                       : estimateInitialPose(polygon.corners, geometry_.map, geometry_.k, params_.init,
+                                             candidate, static_cast<int>(pi))))
+      continue;
+    any_pose = true;
+    // The corners' pose, or its planar-PnP twin when that explains clearly more of the
+    // recent events (the primary fits the corners best; in a weak-perspective view the two
+    // differ only in evidence beyond the corners, e.g. a second polygon's edges).
+    if (refine_events_ > 0)
+      candidate.pose = refineWithWindowEvents(candidate.pose, recent);
+    Coverage c = sideCoverage(candidate.pose, recent);
+    for (Pose twin : candidate.alternatives)
+    {
+      if (refine_events_ > 0)
+        twin = refineWithWindowEvents(twin, recent);
+      const Coverage ct = sideCoverage(twin, recent);
+      const bool primary_valid = c.min_fraction >= params_.init_min_coverage;
+      if (ct.min_fraction >= params_.init_min_coverage && (!primary_valid || ct.covered_px > kTwinMargin * c.covered_px))
+      {
+        candidate.pose = twin;
+        c = ct;
+      }
+    }
+    if (c.min_fraction < params_.init_min_coverage)
+      continue;
+    if (!have || c.covered_px > best.covered_px)
+    {
+      if (have && !samePose(init.pose, candidate.pose))
+        runner_up_px = std::max(runner_up_px, best.covered_px);
+      have = true;
+      init = candidate;
+      best = c;
+    }
+    else if (!samePose(init.pose, candidate.pose))
+      runner_up_px = std::max(runner_up_px, c.covered_px);
+  }
+  if (!have)
+  {
+    ++(any_pose ? stats_.coverage_failed : stats_.pose_failed);
+    return Outcome::kNext;
+  }
+  if (runner_up_px > kAmbiguityRatio * best.covered_px)
+  {
+    ++stats_.ambiguous;
+    return Outcome::kNext;
+  }
+  // An open polygon is matched from fewer sides: its pose must also explain most of the
+  // recent events (a square's three sides taken for the other square of a pair validated
+  // its visible sides and left the real square's events unexplained: 0.28-0.34 of them
+  // explained in the sweep's false initialisations, 0.6-1.0 in its correct ones).
+  if (polygon.open && explainedFraction(init.pose, recent) < kOpenMinExplained)
+  {
+    ++stats_.unexplained;
+    return Outcome::kNext;
+  }
+  // The more of a polygon's outline is inferred rather than seen (sides stopping short of
+  // their corners), the more it must repeat itself: one more agreeing detection when the
+  // gaps exceed a quarter of the perimeter (a walking person's limbs made such a square).
+  // An open polygon's missing side is inferred too.
+  if (!confirmed(init.pose, polygon.open || polygon.gap_px > kInferredOutlineRatio * polygon.perimeter() ? 1 : 0))
+  {
+    ++stats_.unconfirmed;
+    return Outcome::kStop;
+  }
+  recent_.clear();
+  if (!start(init.pose))
+  {
+    ++stats_.declined;
+    hough_.reset();
+    return Outcome::kNext;
+  }
+  ++stats_.accepted;
+  last_polygon_ = polygon;
+  return Outcome::kStarted;
 }
 
 TrackerInitializer::RecentEvents TrackerInitializer::recentEvents() const

@@ -58,8 +58,8 @@ bool estimateInitialPose(const std::vector<Eigen::Vector2d>& corners_ideal_px, c
                          const PoseInitParams& params, InitialPose& result, int only_polygon = -1);
 
 /// The same from an open polygon (one side out of view; polygon_search.h findOpenPolygons): its
-/// two missing corners are first placed where the map polygon's side-length ratios put them
-/// along the outer sides, the completed corners solved as above (with a tolerance for that
+/// two missing corners are first placed along the outer sides at the mean length of the sides
+/// in view, the completed corners solved as above (with a tolerance for that
 /// guess), and the pose then refined so that the corners in view reproject onto theirs and the
 /// missing ones onto their sides' lines (2n - 2 residuals for 6 unknowns: n >= 4). The fit
 /// must reach max_reprojection_rms_px, and the missing side must lie beyond the outer sides'

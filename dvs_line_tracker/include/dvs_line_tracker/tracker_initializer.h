@@ -85,6 +85,17 @@ private:
     std::vector<Eigen::Vector2d> evidence;  ///< init_evidence_windows windows
   };
   RecentEvents recentEvents() const;
+  /// What became of one image polygon: try the next, stop this attempt (a valid detection
+  /// awaits confirmation), or tracking started.
+  enum class Outcome
+  {
+    kNext,
+    kStop,
+    kStarted
+  };
+  /// Hypotheses from `polygon` (one per map polygon of its side count), validated, ranked and
+  /// confirmed; starts tracking from the winner.
+  Outcome tryPolygon(const ImagePolygon& polygon, const RecentEvents& recent, const StartTracking& start);
   Pose refineWithWindowEvents(const Pose& initial, const RecentEvents& recent) const;
   struct Coverage
   {
