@@ -8,12 +8,13 @@
 
 #include <dvs_calibration/trajectory_file.h>
 #include <dvs_driver/event_text_io.h>
-#include <fstream>
-
 #include <algorithm>
 #include <atomic>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
 #include <string>
 #include <thread>
 #include <vector>
@@ -98,9 +99,25 @@ int main(int argc, char** argv)
       usage();
       return 2;
     }
+    std::error_code ec;
+    std::filesystem::create_directories(dump, ec);
+    if (ec)
+    {
+      std::fprintf(stderr, "benchmark_init_sweep: --dump %s: cannot create the folder: %s\n", dump.c_str(),
+                   ec.message().c_str());
+      return 1;
+    }
     const SweepScene scene = buildSweepScene(specs[only]);
     const dvs_driver::EventVector events = simulateSweepScene(scene);
-    dvs_driver::writeEventsText(dump + "/events.txt", events);
+    try
+    {
+      dvs_driver::writeEventsText(dump + "/events.txt", events);
+    }
+    catch (const std::exception& e)
+    {
+      std::fprintf(stderr, "benchmark_init_sweep: %s\n", e.what());
+      return 1;
+    }
     dvs_calibration::writeTumTrajectory(dump + "/groundtruth.txt",
                                         dvs_screen_sim::sampleTrajectory(*scene.trajectory, scene.duration, 1000.0));
     const auto& k = scene.camera.intrinsics();

@@ -89,6 +89,10 @@ public:
     border_px_ = border_px;
   }
 
+  /// The segments from index `first_bridge` on are bridges (bridgeBorderSegments): every
+  /// polygon uses exactly one of them.
+  void setBridges(int first_bridge) { first_bridge_ = first_bridge; }
+
   /// Collect up to `max` polygons with distinct segment sets.
   void runAll(std::vector<ImagePolygon>& found, int max)
   {
@@ -105,6 +109,8 @@ public:
       {
         const auto& s = segs_[id];
         Oriented first{id, end == 0 ? s.p0 : s.p1, end == 0 ? s.p1 : s.p0};
+        if (isBridge(id))
+          continue;  // a bridge joins inner ends: never an outer side
         chain_.assign(1, first);
         used_[id] = true;
         const bool found = extend(out);
@@ -118,6 +124,16 @@ public:
   }
 
 private:
+  bool isBridge(int id) const { return first_bridge_ >= 0 && id >= first_bridge_; }
+
+  int bridgesInChain() const
+  {
+    int n = 0;
+    for (const auto& side : chain_)
+      n += isBridge(side.id) ? 1 : 0;
+    return n;
+  }
+
   bool turnOk(const Oriented& a, const Oriented& b) const
   {
     const double c = a.dir().dot(b.dir());
@@ -171,11 +187,7 @@ private:
     return true;
   }
 
-  bool atBorder(const Eigen::Vector2d& p) const
-  {
-    return p.x() < border_px_ || p.y() < border_px_ || p.x() > width_ - 1 - border_px_ ||
-           p.y() > height_ - 1 - border_px_;
-  }
+  bool atBorder(const Eigen::Vector2d& p) const { return atImageBorder(p, width_, height_, border_px_); }
 
   bool opens(ImagePolygon& out) const
   {
@@ -187,6 +199,7 @@ private:
         return false;
       poly.segment_ids.push_back(chain_[k].id);
     }
+    poly.bridged = first_bridge_ >= 0;
     poly.open_first = chain_.front().near_end;
     poly.open_last = chain_.back().far_end;
     if (!atBorder(poly.open_first) || !atBorder(poly.open_last))
@@ -207,7 +220,7 @@ private:
       return false;
     if (static_cast<int>(chain_.size()) == chain_length_)
     {
-      if (!(open_ ? opens(out) : closes(out)))
+      if ((first_bridge_ >= 0 && bridgesInChain() != 1) || !(open_ ? opens(out) : closes(out)))
         return false;
       if (!collect_)
         return true;
@@ -232,12 +245,13 @@ private:
       return static_cast<int>(collect_->size()) >= max_;
     }
     const Oriented cur = chain_.back();
+    const bool bridge_used = first_bridge_ >= 0 && bridgesInChain() > 0;
     // Continuations tried closest corner first (a long segment nearby must not win over the
     // side that really meets this one).
     std::vector<std::pair<double, Oriented>> next_sides;
     for (int id : order_)
     {
-      if (used_[id])
+      if (used_[id] || (bridge_used && isBridge(id)))
         continue;
       const auto& s = segs_[id];
       for (int end = 0; end < 2; ++end)
@@ -273,6 +287,7 @@ private:
   int steps_ = 0;
   int chain_length_ = 0;
   bool open_ = false;
+  int first_bridge_ = -1;
   double width_ = 0, height_ = 0, border_px_ = 0;
   std::vector<ImagePolygon>* collect_ = nullptr;
   int max_ = 1;
@@ -281,17 +296,44 @@ private:
 
 std::vector<ImagePolygon> findOpenPolygons(const std::vector<ImageSegment>& segments, int num_sides,
                                            const PolygonSearchParams& params, double width, double height,
-                                           double border_px, int max_polygons)
+                                           double border_px, int max_polygons, int first_bridge)
 {
   std::vector<ImagePolygon> found;
-  if (num_sides < 4 || static_cast<int>(segments.size()) < num_sides - 1 || max_polygons < 1)
+  if (num_sides < 4 || static_cast<int>(segments.size()) < num_sides - 1 || max_polygons < 1 ||
+      first_bridge >= static_cast<int>(segments.size()))
     return found;
   Search search(segments, num_sides, params);
   search.setOpen(width, height, border_px);
+  search.setBridges(first_bridge);
   search.runAll(found, max_polygons);
   std::stable_sort(found.begin(), found.end(),
                    [](const ImagePolygon& a, const ImagePolygon& b) { return a.gap_px < b.gap_px; });
   return found;
+}
+
+bool atImageBorder(const Eigen::Vector2d& p, double width, double height, double border_px)
+{
+  return p.x() < border_px || p.y() < border_px || p.x() > width - 1 - border_px || p.y() > height - 1 - border_px;
+}
+
+std::vector<ImageSegment> bridgeBorderSegments(const std::vector<ImageSegment>& segments,
+                                               const PolygonSearchParams& params, double width, double height,
+                                               double border_px)
+{
+  // The inner ends of segments that run out of view with their other end.
+  std::vector<Eigen::Vector2d> inner;
+  for (const auto& s : segments)
+  {
+    const bool b0 = atImageBorder(s.p0, width, height, border_px), b1 = atImageBorder(s.p1, width, height, border_px);
+    if (b0 != b1 && s.length() >= params.min_side_px)
+      inner.push_back(b0 ? s.p1 : s.p0);
+  }
+  std::vector<ImageSegment> out = segments;
+  for (size_t i = 0; i < inner.size(); ++i)
+    for (size_t j = i + 1; j < inner.size(); ++j)
+      if ((inner[j] - inner[i]).norm() >= params.min_side_px)
+        out.push_back({inner[i], inner[j], 0});
+  return out;
 }
 
 std::vector<ImageSegment> splitAtJunctions(const std::vector<ImageSegment>& segments,

@@ -216,6 +216,19 @@ bool TrackerInitializer::tryInitialize(const StartTracking& start)
       if (o != Outcome::kNext)
         return o == Outcome::kStarted;
     }
+  // Then open polygons with an inner side too weak to be detected (parallel to the motion),
+  // bridged between the inner ends of its neighbours.
+  const std::vector<ImageSegment> bridged =
+      bridgeBorderSegments(split, params_.polygon, geometry_.width, geometry_.height, border);
+  if (bridged.size() > split.size())
+    for (int sides : side_counts_)
+      for (const ImagePolygon& polygon : findOpenPolygons(bridged, sides, params_.polygon, geometry_.width,
+                                                          geometry_.height, border, 8, static_cast<int>(split.size())))
+      {
+        const Outcome o = tryPolygon(polygon, recent, start);
+        if (o != Outcome::kNext)
+          return o == Outcome::kStarted;
+      }
   return false;
 }
 

@@ -186,6 +186,48 @@ TEST(PolygonSearch, FindsPolygonsWithOneSideOutOfView)
   EXPECT_TRUE(findOpenPolygons(segs, 3, PolygonSearchParams(), 128, 128, 4.0, 8).empty());
 }
 
+TEST(PolygonSearch, BridgesAnUndetectedSideBetweenSidesRunningOutOfView)
+{
+  // A square whose right side lies beyond a 128x128 image and whose left side (parallel to the
+  // camera's motion) fired too little to be detected: only the top and bottom sides, each
+  // running out of view to the right.
+  const std::vector<ImageSegment> segs = {
+      seg(32, 30, 127, 30),   // top, from near its corner to the border
+      seg(127, 100, 31, 100),  // bottom, from the border
+      seg(60, 50, 80, 70),     // a distractor inside the image
+  };
+  EXPECT_TRUE(findOpenPolygons(segs, 4, PolygonSearchParams(), 128, 128, 4.0, 8).empty());
+  const std::vector<ImageSegment> bridged = bridgeBorderSegments(segs, PolygonSearchParams(), 128, 128, 4.0);
+  // One bridge: between the inner ends of the two sides that run out of view (the distractor
+  // has no end at the border).
+  ASSERT_EQ(bridged.size(), segs.size() + 1);
+  const auto open = findOpenPolygons(bridged, 4, PolygonSearchParams(), 128, 128, 4.0, 8, static_cast<int>(segs.size()));
+  ASSERT_EQ(open.size(), 1u);
+  EXPECT_TRUE(open[0].open);
+  EXPECT_TRUE(open[0].bridged);
+  ASSERT_EQ(open[0].corners.size(), 2u);
+  for (const Eigen::Vector2d& e : {Eigen::Vector2d(32, 30), Eigen::Vector2d(31, 100)})
+    EXPECT_LT(std::min((open[0].corners[0] - e).norm(), (open[0].corners[1] - e).norm()), 1e-6);
+  EXPECT_GT(open[0].open_first.x(), 120);
+  EXPECT_GT(open[0].open_last.x(), 120);
+  // Every polygon has exactly one bridge: with all four sides detected (the left one too) the
+  // bridged search finds no second, inferred copy of the chain through the detected left side.
+  std::vector<ImageSegment> all = segs;
+  all.push_back(seg(31, 98, 32, 32));
+  const std::vector<ImageSegment> all_bridged = bridgeBorderSegments(all, PolygonSearchParams(), 128, 128, 4.0);
+  for (const ImagePolygon& p :
+       findOpenPolygons(all_bridged, 4, PolygonSearchParams(), 128, 128, 4.0, 8, static_cast<int>(all.size())))
+  {
+    int bridges = 0;
+    for (int id : p.segment_ids)
+      bridges += id >= static_cast<int>(all.size()) ? 1 : 0;
+    EXPECT_EQ(bridges, 1);
+  }
+  // Segments with both ends inside the image, or crossing it, give no bridges.
+  const std::vector<ImageSegment> no_ends = {seg(10, 10, 60, 10), seg(10, 60, 60, 60), seg(0, 90, 127, 90)};
+  EXPECT_EQ(bridgeBorderSegments(no_ends, PolygonSearchParams(), 128, 128, 4.0).size(), no_ends.size());
+}
+
 TEST(PoseInit, ExactPoseFromAPolygonWithOneSideOutOfView)
 {
   const LineMap map = defaultSquareMap();

@@ -34,6 +34,9 @@ struct ImagePolygon
   /// first side runs from `open_first` to corners.front(), the last from corners.back() to
   /// `open_last` (both ends at the image border).
   bool open = false;
+  /// An open polygon with one side in view inferred, not detected (a bridge between the inner
+  /// ends of two sides running out of view; bridgeBorderSegments).
+  bool bridged = false;
   Eigen::Vector2d open_first = Eigen::Vector2d::Zero(), open_last = Eigen::Vector2d::Zero();
   double perimeter() const;
   /// Signed area (shoelace, image coordinates, y down).
@@ -50,10 +53,23 @@ bool intersectLines(const ImageSegment& a, const ImageSegment& b, Eigen::Vector2
 /// Polygons of `num_sides` (>= 4) sides with one side out of view: chains of num_sides - 1
 /// sides meeting as in findPolygon whose two outer ends reach the border of the image
 /// [0, width - 1] x [0, height - 1] (within `border_px`, or beyond it). Up to `max_polygons`,
-/// sorted by gap_px.
+/// sorted by gap_px. With `first_bridge` >= 0 the segments from that index on are bridges
+/// (bridgeBorderSegments) and each polygon has exactly one of them as an inner side.
 std::vector<ImagePolygon> findOpenPolygons(const std::vector<ImageSegment>& segments, int num_sides,
                                            const PolygonSearchParams& params, double width, double height,
-                                           double border_px, int max_polygons);
+                                           double border_px, int max_polygons, int first_bridge = -1);
+
+/// `p` within `border_px` of the border of the image [0, width - 1] x [0, height - 1], or beyond.
+bool atImageBorder(const Eigen::Vector2d& p, double width, double height, double border_px);
+
+/// `segments` followed by bridges: a segment between the inner ends of every pair of segments
+/// (each at least min_side_px long) that run out of view with one end (atImageBorder) and whose
+/// inner ends are at least min_side_px apart. A polygon side parallel to the camera's motion
+/// hardly fires and is not detected; when its neighbours run out of view, their inner ends are
+/// its corners.
+std::vector<ImageSegment> bridgeBorderSegments(const std::vector<ImageSegment>& segments,
+                                               const PolygonSearchParams& params, double width, double height,
+                                               double border_px);
 
 /// `segments` followed by the pieces of every segment in whose interior the line of another
 /// segment ends (a T or L junction): neighbouring polygons with collinear sides (two squares

@@ -4,7 +4,8 @@
 // the detected segments are filtered (not along the image border), assembled into image
 // polygons with the map's side counts (corners may lie outside the image: partial views; then
 // from segments split at junctions; then, when none started tracking, polygons with one side
-// out of view, whose poses must also explain most of the window's events), and
+// out of view, whose poses must also explain most of the window's events, and last such
+// polygons with one inner side bridged between the inner ends of its neighbours), and
 // each polygon's corners give one pose hypothesis per map polygon of that side count
 // (pose_initializer.h), refined on the window's events near the projected map
 // (point-to-line), validated (every visible map side covered by recent voted events, a quiet
