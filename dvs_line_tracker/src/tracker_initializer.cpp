@@ -20,6 +20,10 @@ constexpr double kOpenBorderRatio = 0.06;
 /// Open polygons' poses must explain this fraction of the Hough window's events.
 constexpr double kOpenMinExplained = 0.5;
 
+/// A detection covered this fraction of init_min_coverage is weak: it confirms or is confirmed
+/// by a detection covered init_min_coverage, never starts tracking with weak ones alone.
+constexpr double kWeakCoverageRatio = 0.75;
+
 /// The planar-PnP twin replaces the corners' pose when it explains this much more evidence.
 constexpr double kTwinMargin = 1.1;
 
@@ -157,22 +161,29 @@ bool TrackerInitializer::alongBorder(const ImageSegment& sg) const
          near(sg.p0.y(), sg.p1.y(), h);
 }
 
-bool TrackerInitializer::confirmed(const Pose& pose, int extra)
+bool TrackerInitializer::confirmed(const Pose& pose, int extra, bool strong)
 {
   // Two detections in a row must agree (a false polygon from smeared or partial edges rarely
-  // repeats itself consistently).
+  // repeats itself consistently), and one of them must be strongly covered.
   if (params_.init_confirmations + extra <= 0)
-    return true;
+    return strong;
   int agreeing = 0;
+  bool any_strong = strong;
   for (const auto& earlier : recent_)
-    agreeing += positionError(earlier, pose) < params_.init_confirm_position_ratio * pose.p_world_camera().norm() &&
-                        orientationError(earlier, pose) < params_.init_confirm_angle_deg * M_PI / 180
-                    ? 1
-                    : 0;
-  recent_.push_back(pose);
+  {
+    // A pair with a weak detection must agree twice as closely.
+    const double bound = earlier.strong && strong ? 1.0 : 0.5;
+    if (positionError(earlier.pose, pose) < bound * params_.init_confirm_position_ratio * pose.p_world_camera().norm() &&
+        orientationError(earlier.pose, pose) < bound * params_.init_confirm_angle_deg * M_PI / 180)
+    {
+      ++agreeing;
+      any_strong |= earlier.strong;
+    }
+  }
+  recent_.push_back({pose, strong});
   if (recent_.size() > 4)
     recent_.erase(recent_.begin());
-  return agreeing >= params_.init_confirmations + extra;
+  return agreeing >= params_.init_confirmations + extra && any_strong;
 }
 
 bool TrackerInitializer::tryInitialize(const StartTracking& start)
@@ -251,6 +262,9 @@ TrackerInitializer::Outcome TrackerInitializer::tryPolygon(const ImagePolygon& p
   // 8 false initialisations in the sweep instead of 2); the valid one whose projected map
   // explains the most evidence wins, unless another explains nearly as much (ambiguous:
   // wait until the view tells them apart).
+  // Hypotheses covered less than init_min_coverage (but kWeakCoverageRatio of it) are weak
+  // detections: they may confirm a strong one, or be confirmed by one, never start alone.
+  const double weak_coverage = kWeakCoverageRatio * params_.init_min_coverage;
   bool have = false, any_pose = false;
   InitialPose init;
   Coverage best;
@@ -277,14 +291,14 @@ TrackerInitializer::Outcome TrackerInitializer::tryPolygon(const ImagePolygon& p
       if (refine_events_ > 0)
         twin = refineWithWindowEvents(twin, recent);
       const Coverage ct = sideCoverage(twin, recent);
-      const bool primary_valid = c.min_fraction >= params_.init_min_coverage;
-      if (ct.min_fraction >= params_.init_min_coverage && (!primary_valid || ct.covered_px > kTwinMargin * c.covered_px))
+      const bool primary_valid = c.min_fraction >= weak_coverage;
+      if (ct.min_fraction >= weak_coverage && (!primary_valid || ct.covered_px > kTwinMargin * c.covered_px))
       {
         candidate.pose = twin;
         c = ct;
       }
     }
-    if (c.min_fraction < params_.init_min_coverage)
+    if (c.min_fraction < weak_coverage)
       continue;
     if (!have || c.covered_px > best.covered_px)
     {
@@ -320,7 +334,8 @@ TrackerInitializer::Outcome TrackerInitializer::tryPolygon(const ImagePolygon& p
   // their corners), the more it must repeat itself: one more agreeing detection when the
   // gaps exceed a quarter of the perimeter (a walking person's limbs made such a square).
   // An open polygon's missing side is inferred too.
-  if (!confirmed(init.pose, polygon.open || polygon.gap_px > kInferredOutlineRatio * polygon.perimeter() ? 1 : 0))
+  if (!confirmed(init.pose, polygon.open || polygon.gap_px > kInferredOutlineRatio * polygon.perimeter() ? 1 : 0,
+                 best.min_fraction >= params_.init_min_coverage))
   {
     ++stats_.unconfirmed;
     return Outcome::kStop;

@@ -76,8 +76,9 @@ private:
   bool tryInitialize(const StartTracking& start);
   bool tryPrior(const StartTracking& start);
   bool alongBorder(const ImageSegment& segment) const;
-  /// A later detection agreeing with `pose` (position / distance and angle bounds) is needed.
-  bool confirmed(const Pose& pose, int extra = 0);
+  /// A later detection agreeing with `pose` (position / distance and angle bounds) is needed,
+  /// and one of the agreeing detections must be `strong` (covered init_min_coverage).
+  bool confirmed(const Pose& pose, int extra = 0, bool strong = true);
   /// The voted positions a detection attempt works on, copied once per attempt.
   struct RecentEvents
   {
@@ -119,7 +120,12 @@ private:
   std::vector<int> side_counts_;   ///< distinct side counts of the map's polygons
   int voted_since_check_ = 0;
   int64_t last_check_ns_ = std::numeric_limits<int64_t>::min() / 2;
-  std::vector<Pose> recent_;       ///< the last detections awaiting confirmation
+  struct Detection
+  {
+    Pose pose;
+    bool strong = true;  ///< covered init_min_coverage (not only its kWeakCoverageRatio)
+  };
+  std::vector<Detection> recent_;  ///< the last detections awaiting confirmation
   ImagePolygon last_polygon_;
   InitializerStats stats_;
   bool have_prior_ = false;
