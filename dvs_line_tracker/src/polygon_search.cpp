@@ -105,12 +105,10 @@ public:
   bool run(ImagePolygon& out)
   {
     for (int id : order_)
-      for (int end = 0; end < 2; ++end)
+      for (int end = 0; end < 2 && !isBridge(id); ++end)  // a bridge joins inner ends: never an outer side
       {
         const auto& s = segs_[id];
         Oriented first{id, end == 0 ? s.p0 : s.p1, end == 0 ? s.p1 : s.p0};
-        if (isBridge(id))
-          continue;  // a bridge joins inner ends: never an outer side
         chain_.assign(1, first);
         used_[id] = true;
         const bool found = extend(out);

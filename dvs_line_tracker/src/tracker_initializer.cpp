@@ -219,28 +219,28 @@ bool TrackerInitializer::tryInitialize(const StartTracking& start)
   // with a side beyond the border).
   const double border = std::max(params_.init_border_margin_px,
                                  kOpenBorderRatio * (std::max(geometry_.width, geometry_.height) - 1.0));
-  for (int sides : side_counts_)
-    for (const ImagePolygon& polygon :
-         findOpenPolygons(split, sides, params_.polygon, geometry_.width, geometry_.height, border, 8))
-    {
-      const Outcome o = tryPolygon(polygon, recent, start);
-      if (o != Outcome::kNext)
-        return o == Outcome::kStarted;
-    }
+  // The open polygons of `searched` (with `first_bridge` >= 0: each using one of its bridges).
+  auto tryOpenPolygons = [&](const std::vector<ImageSegment>& searched, int first_bridge) {
+    for (int sides : side_counts_)
+      for (const ImagePolygon& polygon : findOpenPolygons(searched, sides, params_.polygon, geometry_.width,
+                                                          geometry_.height, border, 8, first_bridge))
+      {
+        const Outcome o = tryPolygon(polygon, recent, start);
+        if (o != Outcome::kNext)
+          return o;
+      }
+    return Outcome::kNext;
+  };
+  Outcome o = tryOpenPolygons(split, -1);
+  if (o != Outcome::kNext)
+    return o == Outcome::kStarted;
   // Then open polygons with an inner side too weak to be detected (parallel to the motion),
   // bridged between the inner ends of its neighbours.
   const std::vector<ImageSegment> bridged =
       bridgeBorderSegments(split, params_.polygon, geometry_.width, geometry_.height, border);
   if (bridged.size() > split.size())
-    for (int sides : side_counts_)
-      for (const ImagePolygon& polygon : findOpenPolygons(bridged, sides, params_.polygon, geometry_.width,
-                                                          geometry_.height, border, 8, static_cast<int>(split.size())))
-      {
-        const Outcome o = tryPolygon(polygon, recent, start);
-        if (o != Outcome::kNext)
-          return o == Outcome::kStarted;
-      }
-  return false;
+    o = tryOpenPolygons(bridged, static_cast<int>(split.size()));
+  return o == Outcome::kStarted;
 }
 
 TrackerInitializer::Outcome TrackerInitializer::tryPolygon(const ImagePolygon& polygon, const RecentEvents& recent,

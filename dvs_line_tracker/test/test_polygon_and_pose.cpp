@@ -32,6 +32,15 @@ std::vector<ImageSegment> sidesOf(const std::vector<Eigen::Vector2d>& corners, d
   return out;
 }
 
+// An open polygon's two corners in view are `a` and `b` (in either order).
+void expectOpenCornersAt(const ImagePolygon& open, const Eigen::Vector2d& a, const Eigen::Vector2d& b)
+{
+  ASSERT_TRUE(open.open);
+  ASSERT_EQ(open.corners.size(), 2u);
+  for (const Eigen::Vector2d& e : {a, b})
+    EXPECT_LT(std::min((open.corners[0] - e).norm(), (open.corners[1] - e).norm()), 1e-6);
+}
+
 std::vector<Eigen::Vector2d> projectCorners(const LineMap& map, const Pose& pose)
 {
   std::vector<Eigen::Vector2d> c;
@@ -173,10 +182,7 @@ TEST(PolygonSearch, FindsPolygonsWithOneSideOutOfView)
   // The chain through the distractor is a candidate too (the pose fit and the validation on the
   // events judge it); the true one meets best.
   ASSERT_GE(open.size(), 1u);
-  ASSERT_TRUE(open[0].open);
-  ASSERT_EQ(open[0].corners.size(), 2u);
-  for (const Eigen::Vector2d& e : {Eigen::Vector2d(20, 30), Eigen::Vector2d(100, 30)})
-    EXPECT_LT(std::min((open[0].corners[0] - e).norm(), (open[0].corners[1] - e).norm()), 1e-6);
+  expectOpenCornersAt(open[0], {20, 30}, {100, 30});
   EXPECT_GT(open[0].open_first.y(), 120);
   EXPECT_GT(open[0].open_last.y(), 120);
   // The same chain ending inside the image is no partial view.
@@ -203,11 +209,8 @@ TEST(PolygonSearch, BridgesAnUndetectedSideBetweenSidesRunningOutOfView)
   ASSERT_EQ(bridged.size(), segs.size() + 1);
   const auto open = findOpenPolygons(bridged, 4, PolygonSearchParams(), 128, 128, 4.0, 8, static_cast<int>(segs.size()));
   ASSERT_EQ(open.size(), 1u);
-  EXPECT_TRUE(open[0].open);
   EXPECT_TRUE(open[0].bridged);
-  ASSERT_EQ(open[0].corners.size(), 2u);
-  for (const Eigen::Vector2d& e : {Eigen::Vector2d(32, 30), Eigen::Vector2d(31, 100)})
-    EXPECT_LT(std::min((open[0].corners[0] - e).norm(), (open[0].corners[1] - e).norm()), 1e-6);
+  expectOpenCornersAt(open[0], {32, 30}, {31, 100});
   EXPECT_GT(open[0].open_first.x(), 120);
   EXPECT_GT(open[0].open_last.x(), 120);
   // Every polygon has exactly one bridge: with all four sides detected (the left one too) the
