@@ -1,0 +1,59 @@
+#pragma once
+// The accuracy classes of issue 15 (benchmark_accuracy and the end-to-end accuracy tests share
+// them): each is a software-DVS scenario with overrides (sensor, distance, speed, noise, map,
+// contrast), simulated from a seed and tracked from its first pose on, scored with the suite's
+// one accuracy metric against the simulator's ground truth.
+#include <dvs_calibration/trajectory_accuracy.h>
+#include <dvs_line_tracker/line_map.h>
+#include <dvs_line_tracker/line_tracker.h>
+#include <dvs_screen_sim/dataset.h>
+#include <dvs_screen_sim/sim_config.h>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace dvs_line_tracker
+{
+struct AccuracyClass
+{
+  std::string key;        ///< short name for --class (e.g. "flip23")
+  std::string name;       ///< the issue's row
+  std::string scenario;   ///< the simulator's scenario
+  std::string overrides;  ///< YAML deep-merged into its defaults
+  std::string before;     ///< the figure the issue reported
+  std::string target;     ///< the issue's target
+};
+
+/// Every class, in the issue's order, plus the one-square comparison of the two-square class.
+const std::vector<AccuracyClass>& accuracyClasses();
+/// The class with that key (throws std::invalid_argument naming the known keys).
+const AccuracyClass& accuracyClass(const std::string& key);
+
+struct AccuracyScene
+{
+  dvs_screen_sim::SimConfig config;
+  dvs_screen_sim::SimulationOutput output;
+  dvs_calibration::Trajectory ground_truth;
+  LineMap map;  ///< every polygon of the simulated scene that is in the map
+};
+
+/// The class's simulator configuration for `seed` (throws dvs_screen_sim::ConfigError).
+dvs_screen_sim::SimConfig accuracyConfig(const AccuracyClass& c, uint64_t seed);
+/// The tracker's map of a simulated scene: every polygon with in_map set.
+LineMap mapOfScene(const dvs_screen_sim::Scene& scene, const std::string& name);
+/// Configure, simulate, and build the map.
+AccuracyScene simulateAccuracyScene(const AccuracyClass& c, uint64_t seed);
+
+struct AccuracyRun
+{
+  dvs_calibration::AccuracyReport accuracy;
+  TrackerStats stats;
+  uint64_t events = 0;
+  double tracker_cpu_s = 0;  ///< thread CPU time of processEvent over the whole run
+};
+
+/// Tracks every event of the scene; the pose in force after each update is the estimate.
+AccuracyRun runAccuracyScene(const AccuracyScene& scene, const LineTrackerParams& params,
+                             dvs_calibration::Trajectory* estimates = nullptr);
+}  // namespace dvs_line_tracker
