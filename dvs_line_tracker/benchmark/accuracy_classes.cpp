@@ -1,4 +1,5 @@
 #include "accuracy_classes.h"
+#include "benchmark_stats.h"
 
 #include <yaml-cpp/yaml.h>
 
@@ -65,12 +66,6 @@ std::vector<AccuracyClass> makeClasses()
   };
 }
 
-double threadCpuSeconds()
-{
-  timespec ts;
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return ts.tv_sec + ts.tv_nsec * 1e-9;
-}
 }  // namespace
 
 const std::vector<AccuracyClass>& accuracyClasses()

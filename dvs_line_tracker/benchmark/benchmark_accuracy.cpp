@@ -6,6 +6,7 @@
 //   rosrun dvs_line_tracker benchmark_accuracy [--seeds 1-5] [--class KEY[,KEY...]] [--jobs 2]
 //                                              [--params tracker.yaml] [--out DIR]
 #include "accuracy_classes.h"
+#include "benchmark_stats.h"
 
 #include <dvs_calibration/trajectory_file.h>
 
@@ -49,13 +50,6 @@ bool parseInt(const std::string& text, int lo, int hi, int& out)
   return true;
 }
 
-double median(std::vector<double> v)
-{
-  std::sort(v.begin(), v.end());
-  return v.empty() ? 0.0 : (v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]));
-}
-double worstHigh(const std::vector<double>& v) { return v.empty() ? 0.0 : *std::max_element(v.begin(), v.end()); }
-double worstLow(const std::vector<double>& v) { return v.empty() ? 0.0 : *std::min_element(v.begin(), v.end()); }
 
 struct Job
 {
@@ -205,8 +199,8 @@ int main(int argc, char** argv)
       speed.push_back(j.run.events / std::max(1e-9, j.run.tracker_cpu_s) / 1e6);
     }
     std::printf("| %s: %s | %.2f (%.2f) | %.2f (%.2f) | %.1f (%.1f) | %.1f %% (%.1f %%) | %.2f | %s | %s |\n",
-                c->key.c_str(), c->name.c_str(), median(rp), worstHigh(rp), median(ro), worstHigh(ro), median(mp),
-                worstHigh(mp), median(tr), worstLow(tr), median(speed), c->before.c_str(), c->target.c_str());
+                c->key.c_str(), c->name.c_str(), median(rp), maxOf(rp), median(ro), maxOf(ro), median(mp),
+                maxOf(mp), median(tr), minOf(tr), median(speed), c->before.c_str(), c->target.c_str());
   }
   if (failed)
     std::printf("\n%d runs failed (see the rows)\n", failed);

@@ -16,6 +16,7 @@
 // gravity the tracker estimates starts tilted, the camera accelerating sideways then).
 // --trace writes per consistency sample of every run (imu_flip_evaluation.h): t, position error
 // (3), its sigmas (3), rotation error (3, camera axes), its sigmas (3)
+#include "benchmark_stats.h"
 #include "imu_flip_evaluation.h"
 
 #include <dvs_line_tracker/tracker_params.h>
@@ -47,14 +48,6 @@ FlipRunResult run(const FlipScene& s, const LineTrackerParams& params, bool use_
   return runFlip(s, o);
 }
 
-double median(std::vector<double> v)
-{
-  if (v.empty())
-    return 0;
-  std::sort(v.begin(), v.end());
-  return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
-}
-double worst(const std::vector<double>& v) { return v.empty() ? 0 : *std::max_element(v.begin(), v.end()); }
 
 std::vector<double> parseList(const std::string& text)
 {
@@ -183,10 +176,10 @@ int main(int argc, char** argv)
     std::printf("| **%.1f m: median (worst)** | | %.2f (%.2f) | %.2f (%.2f) | %+.0f %% (%+.0f %%) | %llu losses in all | "
                 "%llu losses in all | %.2f (%.2f) cm / %.2f (%.2f) deg | | %.0f / %.1f %% | %.0f / %.1f %% | %.0f / %.1f %% | "
                 "%.0f / %.1f %% | |\n",
-                d, 100 * median(rms_vis), 100 * worst(rms_vis), 100 * median(rms_imu), 100 * worst(rms_imu),
-                100 * median(change), 100 * worst(change), static_cast<unsigned long long>(vis_losses),
-                static_cast<unsigned long long>(imu_losses), 100 * median(end_p), 100 * worst(end_p),
-                median(end_r) * kDeg, worst(end_r) * kDeg, 100 * median(in1), 100 * median(in3), 100 * median(in1r),
+                d, 100 * median(rms_vis), 100 * maxOf(rms_vis), 100 * median(rms_imu), 100 * maxOf(rms_imu),
+                100 * median(change), 100 * maxOf(change), static_cast<unsigned long long>(vis_losses),
+                static_cast<unsigned long long>(imu_losses), 100 * median(end_p), 100 * maxOf(end_p),
+                median(end_r) * kDeg, maxOf(end_r) * kDeg, 100 * median(in1), 100 * median(in3), 100 * median(in1r),
                 100 * median(in3r), 100 * median(vin1), 100 * median(vin3), 100 * median(vin1r), 100 * median(vin3r));
   }
   return 0;

@@ -4,6 +4,7 @@
 // prints one row per scene and a summary.
 //
 //   rosrun dvs_line_tracker benchmark_init_sweep [--scenes 64] [--jobs 2] [--scene I]
+#include "benchmark_stats.h"
 #include "sweep_evaluation.h"
 
 #include <dvs_calibration/trajectory_file.h>
@@ -41,13 +42,6 @@ bool parseInt(const char* text, int lo, int hi, int& out)
   return true;
 }
 
-double median(std::vector<double> v)
-{
-  if (v.empty())
-    return -1;
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
-}
 }  // namespace
 
 int main(int argc, char** argv)
@@ -210,7 +204,7 @@ int main(int argc, char** argv)
   std::printf("\n**Summary** (%d scenes): initialised %d / %d, first pose correct (5 %% / 3 deg) %d / %d, "
               "false initialisations %d; first pose after the edges fire: median %.3f s, worst %.3f s; "
               "worst tracked fraction (>= 3 edges in view) %.1f %%; worst RMS %.2f %% of the distance%s\n",
-              n, initialized, n, correct, n, false_inits, median(delays), worst_delay, 100 * worst_tracked,
+              n, initialized, n, correct, n, false_inits, median(delays, -1), worst_delay, 100 * worst_tracked,
               100 * worst_rms_ratio, failed ? " (some scenes could not be built: see the rows)" : "");
   return 0;
 }

@@ -2,6 +2,7 @@
 // suite's simulated sequences, beside the thesis's figures and a frame-based baseline.
 //
 //   rosrun dvs_line_tracker benchmark_tracker [--runs 5] [--quick]
+#include "benchmark_stats.h"
 #include "frame_baseline.h"
 
 #include <dvs_line_tracker/line_tracker.h>
@@ -44,28 +45,8 @@ Sequence simulate(const std::string& name, const std::string& scenario, const st
   return s;
 }
 
-// CPU time of this thread: the machine may be shared; wall time would count other processes.
-double threadCpuSeconds()
-{
-  timespec ts;
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return ts.tv_sec + ts.tv_nsec * 1e-9;
-}
 
-double median(std::vector<double> v)
-{
-  std::sort(v.begin(), v.end());
-  return v.empty() ? 0.0 : v[v.size() / 2];
-}
 
-double percentile(std::vector<double>& v, double q)
-{
-  if (v.empty())
-    return 0.0;
-  const size_t i = std::min(v.size() - 1, static_cast<size_t>(q * (v.size() - 1)));
-  std::nth_element(v.begin(), v.begin() + i, v.end());
-  return v[i];
-}
 
 struct RunResult
 {
