@@ -3,7 +3,7 @@
 
 #include <yaml-cpp/yaml.h>
 
-#include <ctime>
+#include <chrono>
 #include <stdexcept>
 
 namespace dvs_line_tracker
@@ -129,5 +129,24 @@ AccuracyRun runAccuracyScene(const AccuracyScene& s, const LineTrackerParams& pa
   r.stats = tracker.stats();
   r.accuracy = dvs_calibration::evaluateTrajectory(estimates, s.ground_truth, 0.05);
   return r;
+}
+
+std::vector<double> poseUpdateLatencies(const dvs_calibration::CameraModel& camera, const LineMap& map,
+                                        const LineTrackerParams& params, const dvs_driver::EventVector& events)
+{
+  LineTracker tracker(camera, map, params);
+  std::vector<double> lat;
+  lat.reserve(events.size());
+  bool tracking = false;
+  for (const auto& e : events)
+  {
+    const auto t0 = std::chrono::steady_clock::now();
+    const bool updated = tracker.processEvent(e);
+    const auto t1 = std::chrono::steady_clock::now();
+    if (tracking && updated)
+      lat.push_back(std::chrono::duration<double>(t1 - t0).count());
+    tracking = tracking || updated;
+  }
+  return lat;
 }
 }  // namespace dvs_line_tracker

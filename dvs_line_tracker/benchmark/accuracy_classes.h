@@ -56,4 +56,9 @@ struct AccuracyRun
 /// Tracks every event of the scene; the pose in force after each update is the estimate.
 AccuracyRun runAccuracyScene(const AccuracyScene& scene, const LineTrackerParams& params,
                              dvs_calibration::Trajectory* estimates = nullptr);
+
+/// Wall-clock time [s] of every processEvent call that updated the pose, after the first pose
+/// (the per-event processing latency while tracking).
+std::vector<double> poseUpdateLatencies(const dvs_calibration::CameraModel& camera, const LineMap& map,
+                                        const LineTrackerParams& params, const dvs_driver::EventVector& events);
 }  // namespace dvs_line_tracker

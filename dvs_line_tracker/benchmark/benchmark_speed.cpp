@@ -9,11 +9,9 @@
 #include "benchmark_stats.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
-#include <ctime>
 #include <fstream>
 #include <malloc.h>
 #include <string>
@@ -127,24 +125,6 @@ SpeedRun runOnce(const AccuracyScene& s, const LineTrackerParams& params)
   return r;
 }
 
-/// Wall-clock latency of every processEvent call that updated the pose after the first one.
-std::vector<double> latencies(const AccuracyScene& s, const LineTrackerParams& params)
-{
-  LineTracker tracker(s.config.camera, s.map, params);
-  std::vector<double> lat;
-  lat.reserve(s.output.events.size());
-  bool tracking = false;
-  for (const auto& e : s.output.events)
-  {
-    const auto t0 = std::chrono::steady_clock::now();
-    const bool updated = tracker.processEvent(e);
-    const auto t1 = std::chrono::steady_clock::now();
-    if (tracking && updated)
-      lat.push_back(std::chrono::duration<double>(t1 - t0).count());
-    tracking = tracking || updated;
-  }
-  return lat;
-}
 }  // namespace
 
 int main(int argc, char** argv)
@@ -214,7 +194,7 @@ int main(int argc, char** argv)
       rtf.push_back(last.real_time_factor);
       mem.push_back(last.heap_peak_mb);
     }
-    std::vector<double> lat = latencies(scene, params);
+    std::vector<double> lat = poseUpdateLatencies(scene.config.camera, scene.map, params, scene.output.events);
     const double p50 = percentile(lat, 0.5), p99 = percentile(lat, 0.99), p999 = percentile(lat, 0.999);
     const double pmax = lat.empty() ? 0 : *std::max_element(lat.begin(), lat.end());
     auto range = [](const std::vector<double>& v) {

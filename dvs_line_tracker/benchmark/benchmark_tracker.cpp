@@ -2,6 +2,7 @@
 // suite's simulated sequences, beside the thesis's figures and a frame-based baseline.
 //
 //   rosrun dvs_line_tracker benchmark_tracker [--runs 5] [--quick]
+#include "accuracy_classes.h"
 #include "benchmark_stats.h"
 #include "frame_baseline.h"
 
@@ -13,10 +14,8 @@
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cstdio>
 #include <cstring>
-#include <ctime>
 #include <string>
 #include <vector>
 
@@ -89,24 +88,6 @@ RunResult runOnce(const Sequence& seq, const LineTrackerParams& params)
   return r;
 }
 
-// Per-event latency while tracking: time of processEvent for every event after the first pose.
-std::vector<double> latencies(const Sequence& seq, const LineTrackerParams& params)
-{
-  LineTracker tracker(seq.config.camera, defaultSquareMap(), params);
-  std::vector<double> lat;
-  lat.reserve(seq.output.events.size());
-  bool tracking = false;
-  for (const auto& e : seq.output.events)
-  {
-    const auto t0 = std::chrono::steady_clock::now();
-    const bool updated = tracker.processEvent(e);
-    const auto t1 = std::chrono::steady_clock::now();
-    if (tracking && updated)
-      lat.push_back(std::chrono::duration<double>(t1 - t0).count());
-    tracking = tracking || updated;
-  }
-  return lat;
-}
 
 void report(const Sequence& seq, const char* label, const LineTrackerParams& params, int runs)
 {
@@ -118,7 +99,7 @@ void report(const Sequence& seq, const char* label, const LineTrackerParams& par
     eps.push_back(last.events_per_second);
     teps.push_back(last.tracking_events_per_second);
   }
-  std::vector<double> lat = latencies(seq, params);
+  std::vector<double> lat = poseUpdateLatencies(seq.config.camera, defaultSquareMap(), params, seq.output.events);
   const double p50 = percentile(lat, 0.5) * 1e9, p99 = percentile(lat, 0.99) * 1e9;
   const auto& a = last.accuracy;
   std::printf("| %s | %s | %zu | %.2f | %.2f | %.3f | %.2f / %.2f | %.2f / %.2f | %.1f %% | %.0f / %.0f | %.0f / %.0f | %llu |\n",
