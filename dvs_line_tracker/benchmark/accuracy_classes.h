@@ -25,7 +25,7 @@ struct AccuracyClass
   std::string target;     ///< the issue's target
 };
 
-/// Every class, in the order, plus the one-square comparison of the two-square class.
+/// Every class, in the order, with the two one-square comparisons of the two-square class.
 const std::vector<AccuracyClass>& accuracyClasses();
 /// The class with that key (throws std::invalid_argument naming the known keys).
 const AccuracyClass& accuracyClass(const std::string& key);
@@ -50,7 +50,7 @@ struct AccuracyRun
   dvs_calibration::AccuracyReport accuracy;
   TrackerStats stats;
   uint64_t events = 0;
-  double tracker_cpu_s = 0;  ///< thread CPU time of processEvent over the whole run
+  double tracker_cpu_s = 0;  ///< thread CPU time of the event loop over the whole run
 };
 
 /// Tracks every event of the scene; the pose in force after each update is the estimate.

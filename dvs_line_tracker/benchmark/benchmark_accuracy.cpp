@@ -50,13 +50,11 @@ bool parseInt(const std::string& text, int lo, int hi, int& out)
   return true;
 }
 
-
 struct Job
 {
   const AccuracyClass* cls;
   int seed;
   AccuracyRun run;
-  uint64_t events = 0;
   std::string error;
 };
 }  // namespace
@@ -125,7 +123,7 @@ int main(int argc, char** argv)
   std::vector<Job> work;
   for (const auto* c : classes)
     for (int seed = seed_from; seed <= seed_to; ++seed)
-      work.push_back({c, seed, {}, 0, {}});
+      work.push_back({c, seed, {}, {}});
   std::atomic<size_t> next{0};
   auto worker = [&]() {
     for (size_t k = next++; k < work.size(); k = next++)

@@ -48,7 +48,6 @@ FlipRunResult run(const FlipScene& s, const LineTrackerParams& params, bool use_
   return runFlip(s, o);
 }
 
-
 std::vector<double> parseList(const std::string& text)
 {
   std::vector<double> out;

@@ -44,9 +44,6 @@ Sequence simulate(const std::string& name, const std::string& scenario, const st
   return s;
 }
 
-
-
-
 struct RunResult
 {
   dvs_calibration::AccuracyReport accuracy;
@@ -87,7 +84,6 @@ RunResult runOnce(const Sequence& seq, const LineTrackerParams& params)
   r.losses = tracker.stats().losses;
   return r;
 }
-
 
 void report(const Sequence& seq, const char* label, const LineTrackerParams& params, int runs)
 {
