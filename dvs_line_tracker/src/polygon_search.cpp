@@ -410,15 +410,17 @@ bool findPolygon(const std::vector<ImageSegment>& segments, int num_sides, const
 }
 
 std::vector<ImagePolygon> findPolygons(const std::vector<ImageSegment>& segments, int num_sides,
-                                       const PolygonSearchParams& params, int max_polygons)
+                                       const PolygonSearchParams& params, int max_polygons, int search_polygons)
 {
   std::vector<ImagePolygon> found;
   if (num_sides < 3 || static_cast<int>(segments.size()) < num_sides || max_polygons < 1)
     return found;
   Search search(segments, num_sides, params);
-  search.runAll(found, max_polygons);
+  search.runAll(found, std::max(max_polygons, search_polygons));
   std::stable_sort(found.begin(), found.end(),
                    [](const ImagePolygon& a, const ImagePolygon& b) { return a.gap_px < b.gap_px; });
+  if (static_cast<int>(found.size()) > max_polygons)
+    found.resize(max_polygons);
   return found;
 }
 }  // namespace dvs_line_tracker

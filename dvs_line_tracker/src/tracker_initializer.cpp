@@ -30,6 +30,11 @@ constexpr double kTwinMargin = 1.1;
 /// A second hypothesis explaining this fraction of the best one's evidence makes it ambiguous.
 constexpr double kAmbiguityRatio = 0.85;
 
+/// Polygons collected from the split segments, of which the 8 whose sides meet best are tried:
+/// the search finds the long unsplit segments' polygons first (joining neighbouring polygons'
+/// collinear sides), and stopping at 8 left the pieces' polygons unsearched.
+constexpr int kSearchPolygons = 32;
+
 double sensorScale(const TrackingGeometry& g, const LineTrackerParams& p)
 {
   return p.init_scale_with_sensor ? std::max(1.0, std::sqrt(static_cast<double>(g.width) * g.height) / 128.0) : 1.0;
@@ -183,7 +188,9 @@ bool TrackerInitializer::confirmed(const Pose& pose, int extra, bool strong)
   recent_.push_back({pose, strong});
   if (recent_.size() > 4)
     recent_.erase(recent_.begin());
-  return agreeing >= params_.init_confirmations + extra && any_strong;
+  // Weak detections alone need one more agreeing detection (an edge moving along itself fires
+  // little for as long as the motion lasts; three agreeing weak detections are no accident).
+  return agreeing >= params_.init_confirmations + extra + (any_strong ? 0 : 1);
 }
 
 bool TrackerInitializer::tryInitialize(const StartTracking& start)
@@ -205,7 +212,7 @@ bool TrackerInitializer::tryInitialize(const StartTracking& start)
   const std::vector<ImageSegment> split = splitAtJunctions(segments, params_.polygon);
   if (split.size() > segments.size())
     for (int sides : side_counts_)
-      for (ImagePolygon& polygon : findPolygons(split, sides, params_.polygon, 8))
+      for (ImagePolygon& polygon : findPolygons(split, sides, params_.polygon, 8, kSearchPolygons))
         if (std::none_of(polygons.begin(), polygons.end(), [&](const ImagePolygon& q) { return sameCorners(q, polygon); }))
           polygons.push_back(std::move(polygon));
   const RecentEvents recent = recentEvents();

@@ -164,6 +164,23 @@ TEST(PolygonSearch, SplitsTheCollinearSidesOfNeighbouringPolygons)
   }
   // A segment crossed in its middle by a line that does not end there is not split.
   EXPECT_EQ(splitAtJunctions({seg(10, 50, 110, 50), seg(60, 10, 60, 100)}, PolygonSearchParams()).size(), 2u);
+
+  // Asked for the best two only: the search meets the long tops' and bottoms' polygons first
+  // (the outer rectangle), so stopping at two misses the pieces' polygons; collecting more
+  // returns the two whose sides meet best of all of them.
+  const auto all = findPolygons(split, 4, PolygonSearchParams(), 32);
+  ASSERT_GE(all.size(), 4u);
+  const auto first_two = findPolygons(split, 4, PolygonSearchParams(), 2);
+  ASSERT_EQ(first_two.size(), 2u);
+  EXPECT_TRUE(sameCorners(first_two[0], ImagePolygon{{{10, 30}, {120, 30}, {120, 90}, {10, 90}}}));
+  EXPECT_GT(first_two[1].gap_px, all[1].gap_px);
+  const auto best_two = findPolygons(split, 4, PolygonSearchParams(), 2, 32);
+  ASSERT_EQ(best_two.size(), 2u);
+  for (size_t i = 0; i < 2; ++i)
+  {
+    EXPECT_TRUE(sameCorners(best_two[i], all[i]));
+    EXPECT_LT(best_two[i].gap_px, first_two[0].gap_px);
+  }
 }
 
 TEST(PolygonSearch, FindsPolygonsWithOneSideOutOfView)

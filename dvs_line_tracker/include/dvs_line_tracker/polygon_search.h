@@ -88,7 +88,9 @@ bool findPolygon(const std::vector<ImageSegment>& segments, int num_sides, const
 
 /// Up to `max_polygons` distinct polygons (different sets of segments; the search tries longer
 /// segments first), sorted by gap_px (sides that meet best first), so that a caller can try the
-/// next when one fails.
+/// next when one fails. With `search_polygons` > max_polygons, that many are collected and the
+/// best max_polygons of them returned (the first found use the longest segments, which may
+/// join neighbouring polygons' collinear sides).
 std::vector<ImagePolygon> findPolygons(const std::vector<ImageSegment>& segments, int num_sides,
-                                       const PolygonSearchParams& params, int max_polygons);
+                                       const PolygonSearchParams& params, int max_polygons, int search_polygons = 0);
 }  // namespace dvs_line_tracker

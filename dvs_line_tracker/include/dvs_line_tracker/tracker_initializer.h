@@ -76,8 +76,8 @@ private:
   bool tryInitialize(const StartTracking& start);
   bool tryPrior(const StartTracking& start);
   bool alongBorder(const ImageSegment& segment) const;
-  /// A later detection agreeing with `pose` (position / distance and angle bounds) is needed,
-  /// and one of the agreeing detections must be `strong` (covered init_min_coverage).
+  /// A later detection agreeing with `pose` (position / distance and angle bounds) is needed;
+  /// when none of the agreeing detections is `strong` (covered init_min_coverage), one more.
   bool confirmed(const Pose& pose, int extra = 0, bool strong = true);
   /// The voted positions a detection attempt works on, copied once per attempt.
   struct RecentEvents
