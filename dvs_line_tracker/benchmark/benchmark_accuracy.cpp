@@ -6,19 +6,17 @@
 //   rosrun dvs_line_tracker benchmark_accuracy [--seeds 1-5] [--class KEY[,KEY...]] [--jobs 2]
 //                                              [--params tracker.yaml] [--out DIR]
 #include "accuracy_classes.h"
+#include "benchmark_tool.h"
 #include "benchmark_stats.h"
 
 #include <dvs_calibration/trajectory_file.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
-#include <filesystem>
 #include <sstream>
 #include <string>
-#include <thread>
 #include <vector>
 
 using namespace dvs_line_tracker;
@@ -108,51 +106,33 @@ int main(int argc, char** argv)
   if (classes.empty())
     for (const auto& c : accuracyClasses())
       classes.push_back(&c);
-  if (!out_dir.empty())
-  {
-    std::error_code ec;
-    std::filesystem::create_directories(out_dir, ec);
-    if (ec)
-    {
-      std::fprintf(stderr, "benchmark_accuracy: --out %s: cannot create the folder: %s\n", out_dir.c_str(),
-                   ec.message().c_str());
-      return 1;
-    }
-  }
+  if (!out_dir.empty() && !createOutputFolder("benchmark_accuracy", "--out", out_dir))
+    return 1;
 
   std::vector<Job> work;
   for (const auto* c : classes)
     for (int seed = seed_from; seed <= seed_to; ++seed)
       work.push_back({c, seed, {}, {}});
-  std::atomic<size_t> next{0};
-  auto worker = [&]() {
-    for (size_t k = next++; k < work.size(); k = next++)
+  runJobs(work.size(), jobs, [&](size_t k) {
+    Job& j = work[k];
+    try
     {
-      Job& j = work[k];
-      try
+      const AccuracyScene scene = simulateAccuracyScene(*j.cls, static_cast<uint64_t>(j.seed));
+      dvs_calibration::Trajectory estimates;
+      j.run = runAccuracyScene(scene, params, &estimates);
+      if (!out_dir.empty())
       {
-        const AccuracyScene scene = simulateAccuracyScene(*j.cls, static_cast<uint64_t>(j.seed));
-        dvs_calibration::Trajectory estimates;
-        j.run = runAccuracyScene(scene, params, &estimates);
-        if (!out_dir.empty())
-        {
-          const std::string stem = out_dir + "/" + j.cls->key + "_seed" + std::to_string(j.seed);
-          dvs_calibration::writeTumTrajectory(stem + ".txt", estimates);
-          dvs_calibration::writeTumTrajectory(stem + "_groundtruth.txt", scene.ground_truth);
-        }
+        const std::string stem = out_dir + "/" + j.cls->key + "_seed" + std::to_string(j.seed);
+        dvs_calibration::writeTumTrajectory(stem + ".txt", estimates);
+        dvs_calibration::writeTumTrajectory(stem + "_groundtruth.txt", scene.ground_truth);
       }
-      catch (const std::exception& e)
-      {
-        j.error = e.what();
-      }
-      std::fprintf(stderr, "%s seed %d done\n", j.cls->key.c_str(), j.seed);
     }
-  };
-  std::vector<std::thread> threads;
-  for (int t = 0; t < std::min<int>(jobs, static_cast<int>(work.size())); ++t)
-    threads.emplace_back(worker);
-  for (auto& t : threads)
-    t.join();
+    catch (const std::exception& e)
+    {
+      j.error = e.what();
+    }
+    std::fprintf(stderr, "%s seed %d done\n", j.cls->key.c_str(), j.seed);
+  });
 
   std::printf("## Accuracy per class and seed\n\n| class | seed | events | first pose [s] | RMS [cm / deg] | "
               "max [cm / deg] | tracked | losses | tracker M events/s (CPU) |\n|---|---|---|---|---|---|---|---|---|\n");

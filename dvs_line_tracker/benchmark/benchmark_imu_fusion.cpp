@@ -16,6 +16,7 @@
 // gravity the tracker estimates starts tilted, the camera accelerating sideways then).
 // --trace writes per consistency sample of every run (imu_flip_evaluation.h): t, position error
 // (3), its sigmas (3), rotation error (3, camera axes), its sigmas (3)
+#include "benchmark_tool.h"
 #include "benchmark_stats.h"
 #include "imu_flip_evaluation.h"
 
@@ -91,15 +92,8 @@ int main(int argc, char** argv)
     }
     else if (!std::strcmp(argv[i], "--params") && i + 1 < argc)
     {
-      try
-      {
-        loadTrackerParamsYaml(argv[++i], params);
-      }
-      catch (const std::exception& e)
-      {
-        std::fprintf(stderr, "benchmark_imu_fusion: %s\n", e.what());
+      if (!loadParamsOption("benchmark_imu_fusion", argv[++i], params))
         return 2;
-      }
     }
     else
     {

@@ -4,20 +4,18 @@
 // prints one row per scene and a summary.
 //
 //   rosrun dvs_line_tracker benchmark_init_sweep [--scenes 64] [--jobs 2] [--scene I]
+#include "benchmark_tool.h"
 #include "benchmark_stats.h"
 #include "sweep_evaluation.h"
 
 #include <dvs_calibration/trajectory_file.h>
 #include <dvs_driver/event_text_io.h>
 #include <algorithm>
-#include <atomic>
 #include <cstdio>
 #include <cstring>
-#include <filesystem>
 #include <fstream>
 #include <stdexcept>
 #include <string>
-#include <thread>
 #include <vector>
 
 using namespace dvs_line_tracker;
@@ -62,15 +60,8 @@ int main(int argc, char** argv)
       dump = argv[++i];
     else if (ok && !std::strcmp(argv[i], "--params"))
     {
-      try
-      {
-        loadTrackerParamsYaml(argv[++i], params);
-      }
-      catch (const std::exception& e)
-      {
-        std::fprintf(stderr, "benchmark_init_sweep: %s\n", e.what());
+      if (!loadParamsOption("benchmark_init_sweep", argv[++i], params))
         return 2;
-      }
     }
     else
       ok = false;
@@ -93,14 +84,8 @@ int main(int argc, char** argv)
       usage();
       return 2;
     }
-    std::error_code ec;
-    std::filesystem::create_directories(dump, ec);
-    if (ec)
-    {
-      std::fprintf(stderr, "benchmark_init_sweep: --dump %s: cannot create the folder: %s\n", dump.c_str(),
-                   ec.message().c_str());
+    if (!createOutputFolder("benchmark_init_sweep", "--dump", dump))
       return 1;
-    }
     const SweepScene scene = buildSweepScene(specs[only]);
     const dvs_driver::EventVector events = simulateSweepScene(scene);
     try
@@ -125,28 +110,19 @@ int main(int argc, char** argv)
   std::vector<SweepResult> results(specs.size());
   std::vector<SweepScene> scenes(specs.size());
   std::vector<std::string> errors(specs.size());
-  std::atomic<size_t> next{0};
-  auto worker = [&]() {
-    for (size_t k = next++; k < todo.size(); k = next++)
+  runJobs(todo.size(), jobs, [&](size_t k) {
+    const int i = todo[k];
+    try
     {
-      const int i = todo[k];
-      try
-      {
-        scenes[i] = buildSweepScene(specs[i]);
-        results[i] = runSweepScene(scenes[i], params);
-      }
-      catch (const std::exception& e)
-      {
-        errors[i] = e.what();
-      }
-      std::fprintf(stderr, "scene %d done\n", i);
+      scenes[i] = buildSweepScene(specs[i]);
+      results[i] = runSweepScene(scenes[i], params);
     }
-  };
-  std::vector<std::thread> threads;
-  for (int j = 0; j < std::min<int>(jobs, static_cast<int>(todo.size())); ++j)
-    threads.emplace_back(worker);
-  for (auto& t : threads)
-    t.join();
+    catch (const std::exception& e)
+    {
+      errors[i] = e.what();
+    }
+    std::fprintf(stderr, "scene %d done\n", i);
+  });
 
   std::printf("| # | sensor | lens (hfov, k1) | distance (coverage) | motion | map | noise | partial | events | "
               "edges fire [s] | first pose after [s] | first pose ok | inits / false | tracked (>= 3 edges) | "

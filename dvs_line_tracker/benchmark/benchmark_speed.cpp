@@ -6,6 +6,7 @@
 //
 //   rosrun dvs_line_tracker benchmark_speed [--runs 5] [--params tracker.yaml] [--quick]
 #include "accuracy_classes.h"
+#include "benchmark_tool.h"
 #include "benchmark_stats.h"
 
 #include <algorithm>
@@ -146,15 +147,8 @@ int main(int argc, char** argv)
     }
     else if (has_value && !std::strcmp(argv[i], "--params"))
     {
-      try
-      {
-        loadTrackerParamsYaml(argv[++i], params);
-      }
-      catch (const std::exception& e)
-      {
-        std::fprintf(stderr, "benchmark_speed: %s\n", e.what());
+      if (!loadParamsOption("benchmark_speed", argv[++i], params))
         return 2;
-      }
     }
     else if (!std::strcmp(argv[i], "--quick"))
       quick = true;

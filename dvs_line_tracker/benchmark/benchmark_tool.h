@@ -1,0 +1,63 @@
+#pragma once
+// Plumbing shared by the tracker benchmarks (ROS-free): `--params tracker.yaml` and an output
+// folder, each failing with a message that names the program (the callers exit with 2 / 1), and
+// a work queue over `--jobs` threads.
+#include <dvs_line_tracker/tracker_params.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cstdio>
+#include <exception>
+#include <filesystem>
+#include <string>
+#include <system_error>
+#include <thread>
+#include <vector>
+
+namespace dvs_line_tracker
+{
+/// loadTrackerParamsYaml(path, params); false (the error printed as "program: what") when the
+/// file is missing or wrong.
+inline bool loadParamsOption(const char* program, const char* path, LineTrackerParams& params)
+{
+  try
+  {
+    loadTrackerParamsYaml(path, params);
+    return true;
+  }
+  catch (const std::exception& e)
+  {
+    std::fprintf(stderr, "%s: %s\n", program, e.what());
+    return false;
+  }
+}
+
+/// Creates `dir` (and its parents); false (the error printed as "program: option dir: cannot
+/// create the folder: why") when that fails.
+inline bool createOutputFolder(const char* program, const char* option, const std::string& dir)
+{
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (!ec)
+    return true;
+  std::fprintf(stderr, "%s: %s %s: cannot create the folder: %s\n", program, option, dir.c_str(), ec.message().c_str());
+  return false;
+}
+
+/// Calls job(0) ... job(count - 1), each once, on min(jobs, count) threads taking the next index
+/// as they finish (`job` must not throw).
+template <typename Job>
+void runJobs(size_t count, int jobs, const Job& job)
+{
+  std::atomic<size_t> next{0};
+  auto worker = [&]() {
+    for (size_t k = next++; k < count; k = next++)
+      job(k);
+  };
+  std::vector<std::thread> threads;
+  for (size_t t = 0; t < std::min(static_cast<size_t>(std::max(jobs, 1)), count); ++t)
+    threads.emplace_back(worker);
+  for (auto& t : threads)
+    t.join();
+}
+}  // namespace dvs_line_tracker
