@@ -72,7 +72,8 @@ TEST(StartAnywhere, UndetectedSideBetweenSidesOutOfView) { expectStartsAndTracks
 
 // Two squares in slow motion on a 128x128 sensor, 99 deg, at 1.5 m (26 % of the image height):
 // the sides moving along themselves fire little, so most detections cover a side only 45-60 %
-// of its length; such weak detections confirm a strongly covered one (no pose at all before).
+// of its length; such weak detections confirm a strongly covered one, and three agreeing ones
+// start alone (no pose at all before weak detections were kept).
 TEST(StartAnywhere, SlowPairWithWeakSides) { expectStartsAndTracks(sweepScene(12), 0.3, 0.97, 0.015); }
 
 // Two squares with collinear sides at 2.6 m on a 240x180 sensor, 85 deg, k1 -0.25, low contrast,
