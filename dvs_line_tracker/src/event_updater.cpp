@@ -1,11 +1,14 @@
 #include <dvs_line_tracker/event_updater.h>
 
 #include <algorithm>
+#include <cmath>
 
 namespace dvs_line_tracker
 {
 EventUpdater::EventUpdater(const TrackingGeometry& geometry, const LineTrackerParams& params)
-  : geometry_(geometry), params_(params), dark_side_(geometry.map)
+  : geometry_(geometry),
+    params_(params),
+    dark_side_(geometry.map)
 {
 }
 
@@ -13,6 +16,8 @@ void EventUpdater::reset()
 {
   dark_side_.clear();
   num_changed_ = events_since_solve_ = 0;
+  rate_clock_started_ = false;
+  solves_ = 0;
   std::fill(changed_flag_.begin(), changed_flag_.end(), 0);
   round_robin_ = 0;
   updates_since_normalize_ = 0;
@@ -46,10 +51,12 @@ int EventUpdater::start(EstimatorState& state, const Pose& pose)
   changed_flag_.assign(state.projected.size(), 0);
   changed_list_.assign(state.projected.size(), 0);
   num_changed_ = events_since_solve_ = 0;
+  rate_clock_started_ = false;
   return visible;
 }
 
-bool EventUpdater::update(EstimatorState& state, const Eigen::Vector2d& p, bool polarity, double edge_offset)
+bool EventUpdater::update(EstimatorState& state, const Eigen::Vector2d& p, bool polarity, double edge_offset,
+                          int64_t t_ns)
 {
   int segs[2];
   const int n =
@@ -69,15 +76,38 @@ bool EventUpdater::update(EstimatorState& state, const Eigen::Vector2d& p, bool 
       changed_list_[num_changed_++] = segs[i];
     }
   }
-  if (++events_since_solve_ >= params_.solve_every_events)
+  if (++events_since_solve_ >= params_.solve_every_events && solveAllowed(t_ns))
   {
-    step(state, changed_list_.data(), num_changed_);
+    noteSolve();
+    step(state, changed_list_.data(), num_changed_, events_since_solve_);
     for (int i = 0; i < num_changed_; ++i)
       changed_flag_[changed_list_[i]] = 0;
     num_changed_ = 0;
     events_since_solve_ = 0;
   }
   return true;
+}
+
+bool EventUpdater::solveAllowed(int64_t t_ns)
+{
+  if (params_.max_solve_rate <= 0)
+    return true;
+  if (!rate_clock_started_)
+  {
+    rate_clock_started_ = true;
+    rate_clock_ns_ = solve_due_ns_ = t_ns;
+  }
+  rate_clock_ns_ = std::max(rate_clock_ns_, t_ns);
+  return rate_clock_ns_ >= solve_due_ns_ - kSolveBurstNs;
+}
+
+void EventUpdater::noteSolve()
+{
+  ++solves_;
+  if (params_.max_solve_rate <= 0)
+    return;
+  const int64_t period_ns = std::max<int64_t>(1, std::llround(1e9 / params_.max_solve_rate));
+  solve_due_ns_ = std::max(solve_due_ns_, rate_clock_ns_) + period_ns;
 }
 
 void EventUpdater::relinearize(EstimatorState& state, int i) const
@@ -89,10 +119,11 @@ void EventUpdater::relinearize(EstimatorState& state, int i) const
   eq.x_lin = state.x_accumulated;
 }
 
-void EventUpdater::step(EstimatorState& state, const int* changed, int num_changed)
+void EventUpdater::step(EstimatorState& state, const int* changed, int num_changed, int events)
 {
   const int n = static_cast<int>(state.equations.size());
   const auto& ep = params_.estimator;
+  const double damping = state.damping;
   if (ep.solver == SolverType::kIncremental)
   {
     for (int c = 0; c < num_changed; ++c)
@@ -105,7 +136,7 @@ void EventUpdater::step(EstimatorState& state, const int* changed, int num_chang
       relinearize(state, round_robin_);
     }
     Vector6d delta;
-    if (solveStep(state.equations.data(), n, state.x_accumulated, state.damping, delta))
+    if (solveStep(state.equations.data(), n, state.x_accumulated, damping, delta))
     {
       state.pose.applyCameraIncrement(delta);
       state.x_accumulated += delta;
@@ -118,7 +149,7 @@ void EventUpdater::step(EstimatorState& state, const int* changed, int num_chang
       for (int i = 0; i < n; ++i)
         relinearize(state, i);
       Vector6d delta;
-      if (!solveStep(state.equations.data(), n, state.x_accumulated, state.damping, delta))
+      if (!solveStep(state.equations.data(), n, state.x_accumulated, damping, delta))
         break;
       state.pose.applyCameraIncrement(delta);
       state.x_accumulated += delta;

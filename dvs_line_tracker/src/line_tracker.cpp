@@ -155,7 +155,7 @@ bool LineTracker::processEvent(const dvs_driver::Event& e)
       return false;
     }
   }
-  const bool updated = updater_.update(estimator_, p, e.polarity, edge_offset);
+  const bool updated = updater_.update(estimator_, p, e.polarity, edge_offset, e.t_ns);
   monitor_.countEvent(updated);
   if (updated)
   {

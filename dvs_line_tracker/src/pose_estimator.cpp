@@ -1,6 +1,6 @@
 #include <dvs_line_tracker/pose_estimator.h>
 
-#include <Eigen/Cholesky>
+#include <cmath>
 
 namespace dvs_line_tracker
 {
@@ -18,6 +18,18 @@ void projectWithJacobian(const PinholeK& k, const Eigen::Vector3d& p, Eigen::Vec
   J.rightCols<3>() = dpi;
 }
 
+/// n^T J for a unit image direction n: the row of the projection Jacobian that moves the pixel
+/// along n (what a point-to-line residual needs), without forming the 2x6 Jacobian. With
+/// q = n^T d(px)/d(p_cam) and d(p_cam)/d(w, v) = [-[p]x  I]: (p x q, q).
+static inline void projectAlongNormal(const PinholeK& k, const Eigen::Vector3d& p, const Eigen::Vector2d& n,
+                                      Vector6d& row)
+{
+  const double iz = 1.0 / p.z();
+  const double qx = n.x() * k.fx * iz, qy = n.y() * k.fy * iz;
+  const double qz = -(qx * p.x() + qy * p.y()) * iz;
+  row << p.y() * qz - p.z() * qy, p.z() * qx - p.x() * qz, p.x() * qy - p.y() * qx, qx, qy, qz;
+}
+
 bool linearizeSegment(const PinholeK& k, const Pose& pose, const Eigen::Vector3d& p0_world,
                       const Eigen::Vector3d& p1_world, const SegmentBuffer& buffer, SegmentNormalEquations& out)
 {
@@ -28,10 +40,7 @@ bool linearizeSegment(const PinholeK& k, const Pose& pose, const Eigen::Vector3d
   const Eigen::Vector3d pc0 = pose.toCamera(p0_world), pc1 = pose.toCamera(p1_world);
   if (pc0.z() < 1e-3 || pc1.z() < 1e-3)
     return false;
-  Eigen::Vector2d a, b;
-  Matrix26d Ja, Jb;
-  projectWithJacobian(k, pc0, a, Ja);
-  projectWithJacobian(k, pc1, b, Jb);
+  const Eigen::Vector2d a = k.project(pc0), b = k.project(pc1);
   const Eigen::Vector2d e = b - a;
   const double len = e.norm();
   if (len < 1e-6 || buffer.size() < 2)
@@ -55,13 +64,58 @@ bool linearizeSegment(const PinholeK& k, const Pose& pose, const Eigen::Vector3d
   const double swr = n.dot(d1);
   const double swrs = n.dot(D2 * ehat) / len;
   out.sum_sq = n.dot(D2 * n);
-  const Eigen::Matrix<double, 1, 6> A = n.transpose() * Ja;
-  const Eigen::Matrix<double, 1, 6> B = n.transpose() * Jb - A;
-  const Eigen::Matrix<double, 6, 1> At = A.transpose(), Bt = B.transpose();
-  const Matrix6d AB = At * B;
-  out.H.noalias() = sw * (At * A) + sws * (AB + AB.transpose()) + swss * (Bt * B);
-  out.g.noalias() = -(swr * At + swrs * Bt);
+  Vector6d A, B;
+  projectAlongNormal(k, pc0, n, A);
+  projectAlongNormal(k, pc1, n, B);
+  B -= A;
+  // H = sw A^T A + sws (A^T B + B^T A) + swss B^T B = A^T u + B^T v (two outer products).
+  const Vector6d u = sw * A + sws * B, v = sws * A + swss * B;
+  out.H.noalias() = A * u.transpose();
+  out.H.noalias() += B * v.transpose();
+  out.g.noalias() = -(swr * A + swrs * B);
   return sw > 0;
+}
+
+/// Solve H x = b for a symmetric positive definite 6x6 H (its lower triangle is read) by
+/// Cholesky, written out for the fixed size (Eigen's LLT runs its generic blocked loops).
+/// Returns false when H is not positive definite.
+static inline bool choleskySolve6(const Matrix6d& H, const Vector6d& b, Vector6d& x)
+{
+  double L[6][6];
+  double inv_diag[6];
+  for (int j = 0; j < 6; ++j)
+  {
+    double d = H(j, j);
+    for (int c = 0; c < j; ++c)
+      d -= L[j][c] * L[j][c];
+    if (!(d > 0))
+      return false;
+    const double ljj = std::sqrt(d);
+    inv_diag[j] = 1.0 / ljj;
+    for (int i = j + 1; i < 6; ++i)
+    {
+      double s = H(i, j);
+      for (int c = 0; c < j; ++c)
+        s -= L[i][c] * L[j][c];
+      L[i][j] = s * inv_diag[j];
+    }
+  }
+  double y[6];
+  for (int i = 0; i < 6; ++i)
+  {
+    double s = b[i];
+    for (int c = 0; c < i; ++c)
+      s -= L[i][c] * y[c];
+    y[i] = s * inv_diag[i];
+  }
+  for (int i = 5; i >= 0; --i)
+  {
+    double s = y[i];
+    for (int r = i + 1; r < 6; ++r)
+      s -= L[r][i] * x[r];
+    x[i] = s * inv_diag[i];
+  }
+  return true;
 }
 
 bool solveStep(const SegmentNormalEquations* eqs, int n, const Vector6d& x_now, double damping, Vector6d& delta)
@@ -84,10 +138,8 @@ bool solveStep(const SegmentNormalEquations* eqs, int n, const Vector6d& x_now, 
   // motion by a rotation rather than by a translation.
   H.diagonal().array() *= 1.0 + damping;
   H.diagonal().array() += 1e-9;
-  const Eigen::LLT<Matrix6d> llt(H);
-  if (llt.info() != Eigen::Success)
+  if (!choleskySolve6(H, -g, delta))
     return false;
-  delta = -llt.solve(g);
   return delta.allFinite();
 }
 }  // namespace dvs_line_tracker

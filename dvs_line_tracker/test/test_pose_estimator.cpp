@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Cholesky>
+
 using namespace dvs_line_tracker;
 
 namespace
@@ -108,4 +110,34 @@ TEST(PoseEstimator, GaussNewtonConvergesToTruthFromExactPoints)
   }
   EXPECT_LT(positionError(pose, truth), 1e-6);
   EXPECT_LT(orientationError(pose, truth), 1e-6);
+}
+
+TEST(PoseEstimator, SolveStepSolvesTheDampedNormalEquations)
+{
+  // Known answer: the step of two segments' equations (one linearised at another increment)
+  // against Eigen's LDLT of the damped sum; and no step from an indefinite or empty system.
+  std::vector<SegmentNormalEquations> eqs(2);
+  for (int i = 0; i < 2; ++i)
+  {
+    const Matrix6d a = Matrix6d::Random();
+    eqs[i].H = a * a.transpose() + 0.5 * Matrix6d::Identity();
+    eqs[i].g = Vector6d::Random();
+    eqs[i].active = true;
+  }
+  eqs[1].x_lin = 0.01 * Vector6d::Random();
+  const Vector6d x_now = 0.02 * Vector6d::Random();
+  const double damping = 0.07;
+  Matrix6d H = eqs[0].H + eqs[1].H;
+  const Vector6d g = eqs[0].g + eqs[1].g + eqs[0].H * x_now + eqs[1].H * (x_now - eqs[1].x_lin);
+  H.diagonal().array() *= 1.0 + damping;
+  H.diagonal().array() += 1e-9;
+  const Vector6d expected = -H.ldlt().solve(g);
+  Vector6d delta;
+  ASSERT_TRUE(solveStep(eqs.data(), 2, x_now, damping, delta));
+  EXPECT_LT((delta - expected).norm(), 1e-10 * expected.norm());
+
+  eqs[0].H = -Matrix6d::Identity();
+  EXPECT_FALSE(solveStep(eqs.data(), 1, x_now, damping, delta));
+  eqs[0].active = eqs[1].active = false;
+  EXPECT_FALSE(solveStep(eqs.data(), 2, x_now, damping, delta));
 }

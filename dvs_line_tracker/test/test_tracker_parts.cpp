@@ -121,14 +121,51 @@ TEST(EventUpdater, StartsSeedsAndUpdatesOnAttributedEventsOnly)
   const ProjectedSegment& s = state.projected[0];
   const Eigen::Vector2d on_side = 0.5 * (s.a + s.b) + 0.8 * s.normal;
   const Pose before = state.pose;
-  EXPECT_TRUE(updater.update(state, on_side, true, 0.0));
+  EXPECT_TRUE(updater.update(state, on_side, true, 0.0, 0));
   EXPECT_GT(positionError(before, state.pose) + orientationError(before, state.pose), 0.0);
   // Far from every side: not attributed, the pose stays.
   const Pose after = state.pose;
   const Eigen::Vector2d centre = 0.25 * (state.projected[0].a + state.projected[1].a + state.projected[2].a +
                                          state.projected[3].a);
-  EXPECT_FALSE(updater.update(state, centre, true, 0.0));
+  EXPECT_FALSE(updater.update(state, centre, true, 0.0, 0));
   EXPECT_EQ(positionError(after, state.pose), 0.0);
+}
+
+TEST(EventUpdater, SolvesEveryEventBelowTheSolveRateAndAtTheRateAbove)
+{
+  const TrackingGeometry g = dvs128Geometry();
+  LineTrackerParams params;
+  params.max_solve_rate = 200000;  // a solve per 5 us, bursts of 1 ms (200 solves) let through
+  EstimatorState state;
+  state.resize(g.map.segments.size(), params.buffer_size);
+  EventUpdater updater(g, params);
+  updater.start(state, kFront);
+  const ProjectedSegment s = state.projected[0];
+  const auto on_side = [&](int i) { return Eigen::Vector2d(s.a + (0.2 + 0.6 * (i % 97) / 97.0) * (s.b - s.a)); };
+  // 100 events 20 us apart (50,000 events/s, under the rate): each one solved.
+  int64_t t = 1000000;
+  for (int i = 0; i < 100; ++i, t += 20000)
+    ASSERT_TRUE(updater.update(state, on_side(i), true, 0.0, t));
+  EXPECT_EQ(updater.solves(), 100u);
+  // 20,000 events 0.1 us apart (2 ms at 10 M events/s): the first ones while the bucket lasts
+  // (it refilled during the slow part: 1 ms = 200 solves), then one per 5 us.
+  for (int i = 0; i < 20000; ++i, t += 100)
+    ASSERT_TRUE(updater.update(state, on_side(i), true, 0.0, t));
+  const uint64_t dense = updater.solves() - 100;
+  EXPECT_GE(dense, 200u + 2000000 / 5000 - 2);
+  EXPECT_LE(dense, 200u + 2000000 / 5000 + 2);
+  // Event time going back (jittered time stamps) holds no solve back once the rate allows.
+  const uint64_t before = updater.solves();
+  t += 1000000;
+  for (int i = 0; i < 10; ++i)
+    ASSERT_TRUE(updater.update(state, on_side(i), true, 0.0, t - 20000 * i));
+  EXPECT_EQ(updater.solves() - before, 10u);
+  // 0: every attributed event is solved whatever the rate.
+  params.max_solve_rate = 0;
+  const uint64_t unlimited = updater.solves();
+  for (int i = 0; i < 1000; ++i, t += 1)
+    ASSERT_TRUE(updater.update(state, on_side(i), true, 0.0, t));
+  EXPECT_EQ(updater.solves() - unlimited, 1000u);
 }
 
 TEST(LossMonitor, NamesWhyTheTrackIsLost)

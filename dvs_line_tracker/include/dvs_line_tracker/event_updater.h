@@ -23,11 +23,11 @@ public:
   /// it, linearise. Returns the number of visible segments.
   int start(EstimatorState& state, const Pose& pose);
 
-  /// One event at ideal pixel `p` (after start()): attribute it, buffer it (moved by
-  /// `edge_offset` towards the bright side), update the pose (once per solve_every_events
-  /// attributed events). Returns true when it was attributed.
-  /// Allocates nothing.
-  bool update(EstimatorState& state, const Eigen::Vector2d& p, bool polarity, double edge_offset);
+  /// One event at ideal pixel `p` and time `t_ns` (after start()): attribute it, buffer it
+  /// (moved by `edge_offset` towards the bright side), update the pose (once per
+  /// solve_every_events attributed events, and at most max_solve_rate times per second of event
+  /// time). Returns true when it was attributed. Allocates nothing.
+  bool update(EstimatorState& state, const Eigen::Vector2d& p, bool polarity, double edge_offset, int64_t t_ns);
 
   /// Refresh what the per-event path leaves stale (called at every quality check): clip the
   /// projections to the image (visibility), drop the stale events of every buffer, and choose
@@ -37,9 +37,13 @@ public:
   /// Forget learned evidence and counters.
   void reset();
 
+  /// Gauss-Newton steps taken since construction or reset() (at most one per attributed event).
+  uint64_t solves() const { return solves_; }
+
 private:
   void relinearize(EstimatorState& state, int i) const;
-  void step(EstimatorState& state, const int* changed, int num_changed);
+  /// One damped Gauss-Newton step for the `events` attributed events since the last one.
+  void step(EstimatorState& state, const int* changed, int num_changed, int events);
   void expireStaleEvents(EstimatorState& state, int i) const;
 
   const TrackingGeometry& geometry_;
@@ -50,5 +54,15 @@ private:
   std::vector<char> changed_flag_;  ///< segments with new events since the last solve
   std::vector<int> changed_list_;
   int num_changed_ = 0, events_since_solve_ = 0;
+  // The solve rate limit (a leaky bucket in event time, GCRA): a solve is allowed while the
+  // event clock is past solve_due_ns_ - kSolveBurstNs; each solve moves solve_due_ns_ on by one
+  // period. Bursts of up to kSolveBurstNs x rate solves pass; the long-run rate is bounded.
+  bool solveAllowed(int64_t t_ns);
+  void noteSolve();
+  static constexpr int64_t kSolveBurstNs = 1000000;
+  bool rate_clock_started_ = false;  ///< false after start(): the bucket starts full
+  int64_t rate_clock_ns_ = 0;        ///< the latest event time seen (time going back does not move it)
+  int64_t solve_due_ns_ = 0;
+  uint64_t solves_ = 0;
 };
 }  // namespace dvs_line_tracker

@@ -179,48 +179,56 @@ public:
     ++clock_;
     const double offset_new = seg.normal.dot(p - seg.a);
     const double weight_new = std::abs(offset_new) <= huber_px ? 1.0 : huber_px / std::abs(offset_new);
-    if (max_motion_px < 1e299)
-      expire(seg, max_motion_px);
-    int slot = size_;
-    if (size_ < capacity())
-      ++size_;
-    else
+    const double s_new = seg.dir.dot(p - seg.a);
+    // One pass over the stored events: drop those the line has moved away from (expire()), and
+    // among the others find the replacement candidates of a full buffer. A dropped event is
+    // replaced by the last one, which is examined next: the candidates are found in the order
+    // of the compacted buffer, as by an expire() followed by a search. (A buffer that is not
+    // full needs no candidates: then only the expiry, if any.)
+    const bool expiring = max_motion_px < 1e299;
+    const bool full = size_ == capacity();
+    if (!full && !expiring)
+      return append(p, offset_new, weight_new);
+    int closest = 0, oldest = -1, stale = -1;
+    double best = 1e300, worst_excess = 0;
+    for (int i = 0; i < size_;)
     {
-      const double s_new = seg.dir.dot(p - seg.a);
-      int closest = 0, oldest = 0, stale = -1;
-      double best = 1e300, worst_excess = 0;
-      for (int i = 0; i < size_; ++i)
+      const Eigen::Vector2d v = points_[i] - seg.a;
+      const double offset = seg.normal.dot(v);
+      if (expiring && std::abs(offset - offsets_[i]) > max_motion_px)
       {
-        const Eigen::Vector2d v = points_[i] - seg.a;
-        const double s = seg.dir.dot(v);
-        const double excess = std::max(std::abs(seg.normal.dot(v)) - max_orthogonal_px,
-                                       std::max(-s, s - seg.length) - max_parallel_px);
-        if (excess > worst_excess)
-        {
-          worst_excess = excess;
-          stale = i;
-        }
-        const double ds = std::abs(s - s_new);
-        if (ds < best)
-        {
-          best = ds;
-          closest = i;
-        }
-        if (stamps_[i] < stamps_[oldest])
-          oldest = i;
+        removeAt(i);
+        continue;
       }
-      const double threshold = 0.5 * seg.length / capacity();
-      slot = stale >= 0 ? stale : (best < threshold ? closest : oldest);
-      moments_.add(points_[slot], weights_[slot], -1.0);
+      if (!full)
+      {
+        ++i;
+        continue;
+      }
+      const double s = seg.dir.dot(v);
+      const double excess =
+          std::max(std::abs(offset) - max_orthogonal_px, std::max(-s, s - seg.length) - max_parallel_px);
+      if (excess > worst_excess)
+      {
+        worst_excess = excess;
+        stale = i;
+      }
+      const double ds = std::abs(s - s_new);
+      if (ds < best)
+      {
+        best = ds;
+        closest = i;
+      }
+      if (oldest < 0 || stamps_[i] < stamps_[oldest])
+        oldest = i;
+      ++i;
     }
-    points_[slot] = p;
-    offsets_[slot] = offset_new;
-    weights_[slot] = weight_new;
-    stamps_[slot] = clock_;
-    moments_.add(p, weight_new);
-    if (++changes_since_refresh_ >= 4096)
-      refreshMoments();
-    return slot;
+    if (size_ < capacity())
+      return append(p, offset_new, weight_new);
+    const double threshold = 0.5 * seg.length / capacity();
+    const int slot = stale >= 0 ? stale : (best < threshold ? closest : oldest);
+    moments_.add(points_[slot], weights_[slot], -1.0);
+    return store(slot, p, offset_new, weight_new);
   }
 
   /// Drop the stored events over which the projected line `seg` has moved farther than
@@ -231,21 +239,38 @@ public:
     {
       const double offset = seg.normal.dot(points_[i] - seg.a);
       if (std::abs(offset - offsets_[i]) > max_motion_px)
-      {
-        moments_.add(points_[i], weights_[i], -1.0);
-        ++changes_since_refresh_;
-        --size_;
-        points_[i] = points_[size_];
-        offsets_[i] = offsets_[size_];
-        weights_[i] = weights_[size_];
-        stamps_[i] = stamps_[size_];
-      }
+        removeAt(i);
       else
         ++i;
     }
   }
 
 private:
+  int append(const Eigen::Vector2d& p, double offset, double weight) { return store(size_++, p, offset, weight); }
+  int store(int slot, const Eigen::Vector2d& p, double offset, double weight)
+  {
+    points_[slot] = p;
+    offsets_[slot] = offset;
+    weights_[slot] = weight;
+    stamps_[slot] = clock_;
+    moments_.add(p, weight);
+    if (++changes_since_refresh_ >= 4096)
+      refreshMoments();
+    return slot;
+  }
+
+  /// Remove stored event `i` (the last one takes its slot).
+  void removeAt(int i)
+  {
+    moments_.add(points_[i], weights_[i], -1.0);
+    ++changes_since_refresh_;
+    --size_;
+    points_[i] = points_[size_];
+    offsets_[i] = offsets_[size_];
+    weights_[i] = weights_[size_];
+    stamps_[i] = stamps_[size_];
+  }
+
   /// Recompute the moments from the points (bounds the rounding drift of the running sums).
   void refreshMoments()
   {

@@ -45,6 +45,13 @@ struct LineTrackerParams
   /// attributed and buffered against the last solved pose, which they report. 1: every event
   /// (the thesis). Larger: faster (BENCHMARKS.md: 4 gives 1.4-1.8x), accuracy per sequence.
   int solve_every_events = 1;
+  /// ... and at most this many times per second of event time [Hz], spread evenly, with bursts
+  /// of up to 1 ms worth of solves let through (an edge crossing a pixel row fires dozens of
+  /// events at once). Below this event rate every attributed event is solved; above it the
+  /// events between solves are attributed and buffered against the last solved pose and the
+  /// next solve uses them all: at high event rates the pose moves little from event to event,
+  /// and the tracker keeps up with fast sensors. 0: no limit.
+  double max_solve_rate = 200000;
   /// The initialisation's event counts and pixel gaps (Hough window and threshold, segment gap,
   /// detection interval, refinement events) are given for a 128x128 sensor and scaled by
   /// sqrt(width * height) / 128 on larger sensors (their edges are longer and fire more events).
