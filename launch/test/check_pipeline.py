@@ -32,6 +32,7 @@ import unittest
 import rospy
 import rostest
 import tf2_ros
+from diagnostic_msgs.msg import DiagnosticArray
 from geometry_msgs.msg import PoseStamped
 from visualization_msgs.msg import MarkerArray
 
@@ -141,6 +142,9 @@ class PipelineTest(unittest.TestCase):
                          queue_size=2000)
         rospy.Subscriber(rospy.get_param("~markers_topic", "/dvs_line_tracker/markers"), MarkerArray,
                          self.on_markers, queue_size=10)
+        # The tracker's latest diagnostics (state, initialiser counters), quoted when a check fails.
+        self.tracker_diagnostics = "none received"
+        rospy.Subscriber("/diagnostics", DiagnosticArray, self.on_diagnostics, queue_size=10)
 
     def on_events(self, raw):
         buf = raw._buff
@@ -154,6 +158,18 @@ class PipelineTest(unittest.TestCase):
             self.pose_stamps_monotonic = False
         self.poses.append(row)
 
+    def on_diagnostics(self, msg):
+        for s in msg.status:
+            if "tracker" in s.name:
+                self.tracker_diagnostics = "%s: %s [%s]" % (
+                    s.name, s.message, ", ".join("%s=%s" % (kv.key, kv.value) for kv in s.values))
+
+    def situation(self):
+        """What a failure message needs to tell a slow start from a wrong one."""
+        first = ("first pose %.2f s after the first ground-truth sample" % (self.poses[0][0] - self.gt.first_time())
+                 if self.poses and len(self.gt) else "no pose or no ground truth yet")
+        return "%s; tracker diagnostics: %s" % (first, self.tracker_diagnostics)
+
     def on_markers(self, msg):
         if msg.markers:
             self.markers.append(msg)
@@ -165,8 +181,8 @@ class PipelineTest(unittest.TestCase):
                 return
             time.sleep(0.05)
         self.fail("timed out after %.0f s waiting for %s (events %d, ground-truth poses %d, poses %d, "
-                  "marker arrays %d)" % (self.timeout, what, self.events, len(self.gt), len(self.poses),
-                                         len(self.markers)))
+                  "marker arrays %d; %s)" % (self.timeout, what, self.events, len(self.gt), len(self.poses),
+                                             len(self.markers), self.situation()))
 
     def test_pipeline(self):
         self.wait_for("events on the event topic", lambda: self.events > 0)
@@ -194,7 +210,8 @@ class PipelineTest(unittest.TestCase):
                                 "only %d of %d poses have ground truth within %.1f ms%s" % (
                                     compared, len(self.poses), 1e3 * self.gt_tolerance,
                                     "" if self.compare_first <= 0 else
-                                    " in the first %.1f s of ground truth" % self.compare_first))
+                                    " in the first %.1f s of ground truth" % self.compare_first) +
+                                "; " + self.situation())
         # Accuracy through the suite's one metric (dvs_calibration's evaluate_trajectory): every
         # ground-truth sample from the first pose to the last compared one.
         report = tool_report(poses, self.gt.rows_copy(), min(compare_until, poses[-1][0]))
