@@ -6,9 +6,7 @@
 namespace dvs_line_tracker
 {
 EventUpdater::EventUpdater(const TrackingGeometry& geometry, const LineTrackerParams& params)
-  : geometry_(geometry),
-    params_(params),
-    dark_side_(geometry.map)
+  : geometry_(geometry), params_(params), dark_side_(geometry.map)
 {
 }
 
@@ -79,7 +77,7 @@ bool EventUpdater::update(EstimatorState& state, const Eigen::Vector2d& p, bool 
   if (++events_since_solve_ >= params_.solve_every_events && solveAllowed(t_ns))
   {
     noteSolve();
-    step(state, changed_list_.data(), num_changed_, events_since_solve_);
+    step(state, changed_list_.data(), num_changed_);
     for (int i = 0; i < num_changed_; ++i)
       changed_flag_[changed_list_[i]] = 0;
     num_changed_ = 0;
@@ -119,11 +117,10 @@ void EventUpdater::relinearize(EstimatorState& state, int i) const
   eq.x_lin = state.x_accumulated;
 }
 
-void EventUpdater::step(EstimatorState& state, const int* changed, int num_changed, int events)
+void EventUpdater::step(EstimatorState& state, const int* changed, int num_changed)
 {
   const int n = static_cast<int>(state.equations.size());
   const auto& ep = params_.estimator;
-  const double damping = state.damping;
   if (ep.solver == SolverType::kIncremental)
   {
     for (int c = 0; c < num_changed; ++c)
@@ -136,7 +133,7 @@ void EventUpdater::step(EstimatorState& state, const int* changed, int num_chang
       relinearize(state, round_robin_);
     }
     Vector6d delta;
-    if (solveStep(state.equations.data(), n, state.x_accumulated, damping, delta))
+    if (solveStep(state.equations.data(), n, state.x_accumulated, state.damping, delta))
     {
       state.pose.applyCameraIncrement(delta);
       state.x_accumulated += delta;
@@ -149,7 +146,7 @@ void EventUpdater::step(EstimatorState& state, const int* changed, int num_chang
       for (int i = 0; i < n; ++i)
         relinearize(state, i);
       Vector6d delta;
-      if (!solveStep(state.equations.data(), n, state.x_accumulated, damping, delta))
+      if (!solveStep(state.equations.data(), n, state.x_accumulated, state.damping, delta))
         break;
       state.pose.applyCameraIncrement(delta);
       state.x_accumulated += delta;

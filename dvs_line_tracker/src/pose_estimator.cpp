@@ -4,26 +4,9 @@
 
 namespace dvs_line_tracker
 {
-void projectWithJacobian(const PinholeK& k, const Eigen::Vector3d& p, Eigen::Vector2d& px, Matrix26d& J)
+void projectAlongNormal(const PinholeK& k, const Eigen::Vector3d& p, const Eigen::Vector2d& n, Vector6d& row)
 {
-  const double iz = 1.0 / p.z();
-  const double x = p.x() * iz, y = p.y() * iz;
-  px = Eigen::Vector2d(k.fx * x + k.cx, k.fy * y + k.cy);
-  // d(px)/d(p_cam) = [fx/z 0 -fx x/z; 0 fy/z -fy y/z]; d(p_cam)/d(w, v) = [-[p]x  I].
-  Eigen::Matrix<double, 2, 3> dpi;
-  dpi << k.fx * iz, 0, -k.fx * x * iz, 0, k.fy * iz, -k.fy * y * iz;
-  Eigen::Matrix3d minus_skew;
-  minus_skew << 0, p.z(), -p.y(), -p.z(), 0, p.x(), p.y(), -p.x(), 0;
-  J.leftCols<3>() = dpi * minus_skew;
-  J.rightCols<3>() = dpi;
-}
-
-/// n^T J for a unit image direction n: the row of the projection Jacobian that moves the pixel
-/// along n (what a point-to-line residual needs), without forming the 2x6 Jacobian. With
-/// q = n^T d(px)/d(p_cam) and d(p_cam)/d(w, v) = [-[p]x  I]: (p x q, q).
-static inline void projectAlongNormal(const PinholeK& k, const Eigen::Vector3d& p, const Eigen::Vector2d& n,
-                                      Vector6d& row)
-{
+  // q = n^T d(px)/d(p_cam); d(p_cam)/d(w, v) = [-[p]x  I], so n^T J = (p x q, q).
   const double iz = 1.0 / p.z();
   const double qx = n.x() * k.fx * iz, qy = n.y() * k.fy * iz;
   const double qz = -(qx * p.x() + qy * p.y()) * iz;

@@ -38,9 +38,12 @@ TEST(PoseEstimator, ProjectionJacobianMatchesNumerical)
   const PinholeK k = dvs128K();
   const Pose pose = lookAt({0.2, -0.1, 1.5}, {0, 0, 0}, {0, 1, 0}, 0.3);
   const Eigen::Vector3d p_world(0.3, 0.4, 0.05);
-  Eigen::Vector2d px;
-  Matrix26d J;
-  projectWithJacobian(k, pose.toCamera(p_world), px, J);
+  // Both rows of the 2x6 Jacobian (n = x, y) and a diagonal direction.
+  Vector6d jx, jy, jd;
+  const Eigen::Vector2d diagonal = Eigen::Vector2d(1, 1).normalized();
+  projectAlongNormal(k, pose.toCamera(p_world), Eigen::Vector2d::UnitX(), jx);
+  projectAlongNormal(k, pose.toCamera(p_world), Eigen::Vector2d::UnitY(), jy);
+  projectAlongNormal(k, pose.toCamera(p_world), diagonal, jd);
   for (int d = 0; d < 6; ++d)
   {
     Vector6d delta = Vector6d::Zero();
@@ -49,8 +52,9 @@ TEST(PoseEstimator, ProjectionJacobianMatchesNumerical)
     plus.applyCameraIncrement(delta);
     minus.applyCameraIncrement(-delta);
     const Eigen::Vector2d num = (k.project(plus.toCamera(p_world)) - k.project(minus.toCamera(p_world))) / 2e-6;
-    EXPECT_NEAR(num.x(), J(0, d), 1e-4 * (1 + std::abs(num.x())));
-    EXPECT_NEAR(num.y(), J(1, d), 1e-4 * (1 + std::abs(num.y())));
+    EXPECT_NEAR(num.x(), jx[d], 1e-4 * (1 + std::abs(num.x())));
+    EXPECT_NEAR(num.y(), jy[d], 1e-4 * (1 + std::abs(num.y())));
+    EXPECT_NEAR(diagonal.dot(num), jd[d], 1e-4 * (1 + std::abs(diagonal.dot(num))));
   }
 }
 

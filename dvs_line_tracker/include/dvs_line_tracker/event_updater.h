@@ -42,8 +42,7 @@ public:
 
 private:
   void relinearize(EstimatorState& state, int i) const;
-  /// One damped Gauss-Newton step for the `events` attributed events since the last one.
-  void step(EstimatorState& state, const int* changed, int num_changed, int events);
+  void step(EstimatorState& state, const int* changed, int num_changed);
   void expireStaleEvents(EstimatorState& state, int i) const;
 
   const TrackingGeometry& geometry_;

@@ -43,8 +43,10 @@ struct SegmentNormalEquations
   bool active = false;
 };
 
-/// Projection Jacobians of a segment's endpoints with respect to the pose increment.
-void projectWithJacobian(const PinholeK& k, const Eigen::Vector3d& p_cam, Eigen::Vector2d& px, Matrix26d& J);
+/// n^T J for a unit image direction `n`, J the Jacobian of the projection of camera point `p_cam`
+/// with respect to the pose increment (w, v): the row a point-to-line residual along n needs,
+/// without forming the 2x6 Jacobian.
+void projectAlongNormal(const PinholeK& k, const Eigen::Vector3d& p_cam, const Eigen::Vector2d& n, Vector6d& row);
 
 /// Normal-equation contribution of the points of one buffer to its segment at `pose`, from the
 /// buffer's weighted moments (O(1), whatever the buffer size; the Huber weights were fixed when

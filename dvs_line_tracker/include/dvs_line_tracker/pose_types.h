@@ -10,7 +10,6 @@ using dvs_calibration::Pose;
 using dvs_calibration::positionError;
 using dvs_calibration::Vector6d;
 using Matrix6d = Eigen::Matrix<double, 6, 6>;
-using Matrix26d = Eigen::Matrix<double, 2, 6>;
 
 /// The cross-product matrix: skew(w) v = w x v.
 inline Eigen::Matrix3d skew(const Eigen::Vector3d& w)

@@ -179,7 +179,6 @@ public:
     ++clock_;
     const double offset_new = seg.normal.dot(p - seg.a);
     const double weight_new = std::abs(offset_new) <= huber_px ? 1.0 : huber_px / std::abs(offset_new);
-    const double s_new = seg.dir.dot(p - seg.a);
     // One pass over the stored events: drop those the line has moved away from (expire()), and
     // among the others find the replacement candidates of a full buffer. A dropped event is
     // replaced by the last one, which is examined next: the candidates are found in the order
@@ -189,6 +188,7 @@ public:
     const bool full = size_ == capacity();
     if (!full && !expiring)
       return append(p, offset_new, weight_new);
+    const double s_new = seg.dir.dot(p - seg.a);
     int closest = 0, oldest = -1, stale = -1;
     double best = 1e300, worst_excess = 0;
     for (int i = 0; i < size_;)
