@@ -338,7 +338,8 @@ std::unique_ptr<EventSource> openEventSource(const std::string& path, const std:
 }
 
 size_t writeEventsBag(rosbag::Bag& bag, const std::string& topic, const EventVector& events, uint32_t width,
-                      uint32_t height, int64_t packet_period_ns, const std::string& frame_id)
+                      uint32_t height, int64_t packet_period_ns, const std::string& frame_id,
+                      const WriteProgress& progress)
 {
   if (packet_period_ns <= 0)
     throw EventBagError("packet period must be > 0 ns, got " + std::to_string(packet_period_ns));
@@ -370,24 +371,32 @@ size_t writeEventsBag(rosbag::Bag& bag, const std::string& topic, const EventVec
     ++msg.header.seq;
     bag.write(topic, msg.header.stamp, msg);
     ++written;
+    if (progress && (i >> 16) != (j >> 16))
+      progress(j);
     i = j;
   }
+  if (progress)
+    progress(events.size());
   return written;
 }
 
 size_t writeEventsBag(CheckedBagWriter& bag, const std::string& topic, const EventVector& events, uint32_t width,
-                      uint32_t height, int64_t packet_period_ns, const std::string& frame_id)
+                      uint32_t height, int64_t packet_period_ns, const std::string& frame_id,
+                      const WriteProgress& progress)
 {
   size_t n = 0;
-  bag.run([&](rosbag::Bag& b) { n = writeEventsBag(b, topic, events, width, height, packet_period_ns, frame_id); });
+  bag.run([&](rosbag::Bag& b) {
+    n = writeEventsBag(b, topic, events, width, height, packet_period_ns, frame_id, progress);
+  });
   return n;
 }
 
 size_t writeEventsBag(const std::string& path, const std::string& topic, const EventStream& stream,
-                      int64_t packet_period_ns, const std::string& frame_id)
+                      int64_t packet_period_ns, const std::string& frame_id, const WriteProgress& progress)
 {
   CheckedBagWriter bag(path);  // throws BagWriteError naming the bag and the reason
-  const size_t n = writeEventsBag(bag, topic, stream.events, stream.width, stream.height, packet_period_ns, frame_id);
+  const size_t n =
+      writeEventsBag(bag, topic, stream.events, stream.width, stream.height, packet_period_ns, frame_id, progress);
   bag.close();
   return n;
 }

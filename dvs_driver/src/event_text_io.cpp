@@ -219,21 +219,25 @@ std::string formatEventLine(const Event& e)
   return buf;
 }
 
-void writeEventsText(std::ostream& out, const EventVector& events)
+void writeEventsText(std::ostream& out, const EventVector& events, const WriteProgress& progress)
 {
   char buf[64];
-  for (const Event& e : events)
+  for (size_t i = 0; i < events.size(); ++i)
   {
-    const int n = formatEvent(e, buf, sizeof(buf) - 1);
+    const int n = formatEvent(events[i], buf, sizeof(buf) - 1);
     buf[n] = '\n';
     out.write(buf, n + 1);
+    if (progress && (i & 0xFFFF) == 0xFFFF)
+      progress(i + 1);
   }
+  if (progress)
+    progress(events.size());
 }
 
-void writeEventsText(const std::string& path, const EventVector& events)
+void writeEventsText(const std::string& path, const EventVector& events, const WriteProgress& progress)
 {
   CheckedFileWriter out(path);  // throws WriteError naming the file and the reason
-  writeEventsText(out.stream(), events);
+  writeEventsText(out.stream(), events, progress);
   out.commit();
 }
 }  // namespace dvs_driver

@@ -41,7 +41,7 @@ std::string scaled(double v, const char* const units[], int n_units, double step
 }  // namespace
 
 std::string formatProgress(const std::string& label, uint64_t events, uint64_t bytes_done, uint64_t total_bytes,
-                           double seconds)
+                           double seconds, ProgressTotal unit)
 {
   std::string s = label + ": " + thousands(events) + " events";
   if (total_bytes > 0)
@@ -50,7 +50,8 @@ std::string formatProgress(const std::string& label, uint64_t events, uint64_t b
     static const char* const sizes[] = {"bytes", "kB", "MB", "GB", "TB"};
     char buf[32];
     std::snprintf(buf, sizeof buf, "%.1f %% of ", pct);
-    s += ", " + std::string(buf) + scaled(double(total_bytes), sizes, 5, 1000.0);
+    s += ", " + std::string(buf) +
+         (unit == ProgressTotal::Events ? thousands(total_bytes) + " events" : scaled(double(total_bytes), sizes, 5, 1000.0));
   }
   if (seconds > 0)
   {
@@ -95,9 +96,14 @@ ReadProgress ProgressMeter::callback()
   };
 }
 
+WriteProgress ProgressMeter::writeCallback()
+{
+  return [this](uint64_t events) { update(events, events); };
+}
+
 void ProgressMeter::print(uint64_t events, uint64_t bytes_done, bool last)
 {
-  const std::string line = formatProgress(label_, events, bytes_done, total_, monotonicSeconds() - start_);
+  const std::string line = formatProgress(label_, events, bytes_done, total_, monotonicSeconds() - start_, unit_);
   // "\r" back to the line's start, "\x1b[K" clears what a longer earlier line left.
   std::fprintf(out_, "\r%s\x1b[K%s", line.c_str(), last ? "\n" : "");
   std::fflush(out_);

@@ -105,7 +105,7 @@ TEST(FormatsHdf5, RoundTripsExactlyInBothLayoutsAndEveryCompression)
       o.chunk_events = 7777;  // several chunks, a partial last one
       {
         Hdf5Writer w(f.path(), 346, 260, o);
-        w.write(EventVector(ev.begin(), ev.begin() + 12345));
+        w.write(ev.data(), 12345);  // in pieces, as convert writes (the state carries over)
         w.write(EventVector(ev.begin() + 12345, ev.end()));
         EXPECT_EQ(w.eventsWritten(), ev.size());
         w.close();

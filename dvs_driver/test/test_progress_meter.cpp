@@ -1,8 +1,11 @@
 // The progress line (progress_meter.h): known formatting, printing only when enabled and at most
 // once per interval, a final line only after a shown one; and the real `convert` stays quiet when
 // its stderr is not a terminal (no "\r", no progress line) while still printing its JSON line.
+#include <dvs_driver/event_bag_io.h>
+#include <dvs_driver/event_text_io.h>
 #include <dvs_driver/progress_meter.h>
 #include <dvs_driver/recording.h>
+#include <rosbag/bag.h>
 
 #include <gtest/gtest.h>
 
@@ -109,6 +112,65 @@ TEST(ProgressMeter, CallbackTakesTheReadersTotal)
   cb(5, 250, 1000);
   EXPECT_NE(readAll(f).find("convert: 5 events, 25.0 % of 1.0 kB"), std::string::npos);
   std::fclose(f);
+}
+
+// While writing, the total counts events.
+TEST(ProgressMeter, WriteProgressCountsEvents)
+{
+  EXPECT_EQ(formatProgress("convert: writing x.aedat4", 500000, 500000, 1000000, 1.0, dvs_driver::ProgressTotal::Events),
+            "convert: writing x.aedat4: 500,000 events, 50.0 % of 1,000,000 events, 500.0 k events/s");
+  std::FILE* f = std::tmpfile();
+  ASSERT_NE(f, nullptr);
+  ProgressMeter m("convert: writing x.txt", 0, true, 0.0, f);
+  m.setTotalEvents(400);
+  dvs_driver::WriteProgress cb = m.writeCallback();
+  cb(100);
+  EXPECT_NE(readAll(f).find("convert: writing x.txt: 100 events, 25.0 % of 400 events"), std::string::npos);
+  std::fclose(f);
+}
+
+namespace
+{
+dvs_driver::EventVector rampEvents(size_t n)
+{
+  dvs_driver::EventVector ev;
+  for (size_t i = 0; i < n; ++i)
+    ev.push_back(dvs_driver::Event{int64_t(1000000 + i * 1000), uint16_t(i % 128), uint16_t((i / 128) % 128), (i & 1) != 0});
+  return ev;
+}
+
+// Reports growing, at most one per 65,536 events plus the last, ending at the total.
+void expectWriteReports(const std::vector<uint64_t>& calls, size_t total)
+{
+  ASSERT_FALSE(calls.empty());
+  EXPECT_LE(calls.size(), total / 65536 + 2);
+  EXPECT_GE(calls.size(), total / 65536);
+  for (size_t i = 1; i < calls.size(); ++i)
+    EXPECT_GE(calls[i], calls[i - 1]);
+  EXPECT_EQ(calls.back(), total);
+}
+}  // namespace
+
+// The writers of events.txt and bags report their progress (convert shows it while writing).
+TEST(ProgressMeter, TextAndBagWritersReportEventsWritten)
+{
+  const dvs_driver::EventVector ev = rampEvents(200000);
+  std::vector<uint64_t> calls;
+  std::ostringstream text;
+  dvs_driver::writeEventsText(text, ev, [&](uint64_t n) { calls.push_back(n); });
+  expectWriteReports(calls, ev.size());
+  EXPECT_EQ(calls.front(), 65536u);
+
+  calls.clear();
+  const std::string path = ::testing::TempDir() + "/progress_" + std::to_string(::getpid()) + ".bag";
+  {
+    rosbag::Bag bag(path, rosbag::bagmode::Write);
+    const size_t packets = dvs_driver::writeEventsBag(bag, "/dvs/events", ev, 128, 128, 1000000, "dvs",
+                                                      [&](uint64_t n) { calls.push_back(n); });
+    EXPECT_EQ(packets, 200u);  // 1 ms packets of 1,000 events
+  }
+  expectWriteReports(calls, ev.size());
+  std::remove(path.c_str());
 }
 
 // readRecording reports its progress between batches: events and bytes growing, the file's size

@@ -104,20 +104,21 @@ std::unique_ptr<EventFileReader> openEventPacketBagFor(const std::string& path,
 /// header.stamp AND its bag record time = the time of the packet's LAST event (what a live
 /// driver knows when it sends the packet). Returns the number of messages written. Throws
 /// EventBagError for packet_period_ns <= 0, times a ros::Time cannot hold, or events that go
-/// backwards in time.
+/// backwards in time. `progress` (optional) hears the events written so far, every ~65,536.
 size_t writeEventsBag(rosbag::Bag& bag, const std::string& topic, const EventVector& events, uint32_t width,
                       uint32_t height, int64_t packet_period_ns = kDefaultPacketPeriodNs,
-                      const std::string& frame_id = "dvs");
+                      const std::string& frame_id = "dvs", const WriteProgress& progress = {});
 
 class CheckedBagWriter;
 /// The same into a checked bag (checked_bag.h): rosbag errors become BagWriteError naming it.
 size_t writeEventsBag(CheckedBagWriter& bag, const std::string& topic, const EventVector& events, uint32_t width,
                       uint32_t height, int64_t packet_period_ns = kDefaultPacketPeriodNs,
-                      const std::string& frame_id = "dvs");
+                      const std::string& frame_id = "dvs", const WriteProgress& progress = {});
 
 /// Convenience: create (overwrite) `path` and write `stream` as above, checked (CheckedBagWriter):
 /// a missing folder, a full disk, ... throw BagWriteError naming the bag and the reason, and no
 /// bag appears under `path` unless complete.
 size_t writeEventsBag(const std::string& path, const std::string& topic, const EventStream& stream,
-                      int64_t packet_period_ns = kDefaultPacketPeriodNs, const std::string& frame_id = "dvs");
+                      int64_t packet_period_ns = kDefaultPacketPeriodNs, const std::string& frame_id = "dvs",
+                      const WriteProgress& progress = {});
 }  // namespace dvs_driver

@@ -54,9 +54,10 @@ std::string formatEventLine(const Event& e);
 
 /// Write events as events.txt, checked (checked_write.h): throws WriteError naming the file and
 /// the OS reason when it cannot be written (missing folder, full disk, ...); the file appears
-/// under its name only when complete.
-void writeEventsText(const std::string& path, const EventVector& events);
-void writeEventsText(std::ostream& out, const EventVector& events);
+/// under its name only when complete. `progress` (optional) hears the events written so far
+/// every 65,536 events.
+void writeEventsText(const std::string& path, const EventVector& events, const WriteProgress& progress = {});
+void writeEventsText(std::ostream& out, const EventVector& events, const WriteProgress& progress = {});
 
 /// Parse a decimal seconds string ("12.345678901", "-0.5", "3") into integer nanoseconds
 /// exactly (no floating-point rounding). Returns false when it is not a number.

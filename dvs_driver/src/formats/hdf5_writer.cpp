@@ -159,15 +159,16 @@ uint64_t Hdf5Writer::eventsWritten() const
   return impl_->written + impl_->x.size();
 }
 
-void Hdf5Writer::write(const EventVector& events)
+void Hdf5Writer::write(const Event* events, size_t n)
 {
   Impl& m = *impl_;
   if (m.closed)
     m.fail("write after close");
   hdf5::Quiet quiet;
   const bool dsec = m.opt.layout == Hdf5Layout::Dsec;
-  for (const Event& e : events)
+  for (const Event* ev = events; ev != events + n; ++ev)
   {
+    const Event& e = *ev;
     int64_t us = e.t_ns / 1000;
     if (e.t_ns < 0 && us * 1000 != e.t_ns)
       --us;  // round down

@@ -17,6 +17,7 @@
 #include <dvs_driver/progress_meter.h>
 #include <dvs_driver/recording.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -160,6 +161,19 @@ void checkMemory(const std::string& input)
                              num(size >> 20) + " MiB file), only " + num(avail >> 20) +
                              " MiB are available; convert a shorter piece");
 }
+/// A format writer fed in pieces of 2^20 events, so that a long write reports its progress.
+template <class Writer>
+void writeInPieces(Writer& w, const dvs_driver::EventVector& events, const dvs_driver::WriteProgress& progress)
+{
+  constexpr size_t kPiece = size_t(1) << 20;
+  for (size_t i = 0; i < events.size(); i += kPiece)
+  {
+    const size_t n = std::min(kPiece, events.size() - i);
+    w.write(events.data() + i, n);
+    progress(i + n);
+  }
+  w.close();
+}
 }  // namespace
 
 int main(int argc, char** argv)
@@ -276,6 +290,9 @@ int main(int argc, char** argv)
     }
     size_t packets = 0;
     const std::string out_format = outputFormat(output);
+    // Progress of the write (events, percent of them, rate), again on a terminal only.
+    dvs_driver::ProgressMeter write_meter("convert: writing " + output, 0);
+    write_meter.setTotalEvents(s.events.size());
     if (out_format == "aedat4" || out_format == "raw" || out_format == "hdf5")
     {
       // The writers of the format readers (exact round trips; times in microseconds).
@@ -285,20 +302,17 @@ int main(int argc, char** argv)
       if (out_format == "aedat4")
       {
         dvs_driver::formats::Aedat4Writer w(output, s.width, s.height);
-        w.write(s.events);
-        w.close();
+        writeInPieces(w, s.events, write_meter.writeCallback());
       }
       else if (out_format == "raw")
       {
         dvs_driver::formats::Evt3Writer w(output, s.width, s.height);
-        w.write(s.events);
-        w.close();
+        writeInPieces(w, s.events, write_meter.writeCallback());
       }
       else
       {
         dvs_driver::formats::Hdf5Writer w(output, s.width, s.height);
-        w.write(s.events);
-        w.close();
+        writeInPieces(w, s.events, write_meter.writeCallback());
       }
     }
     else if (dvs_driver::eventFileFormat(output) == dvs_driver::EventFileFormat::Bag)
@@ -307,10 +321,12 @@ int main(int argc, char** argv)
         throw dvs_driver::EventFileError(input + ": time stamps are negative (first " +
                                          std::to_string(s.events.front().t_ns) +
                                          " ns) and a bag cannot hold them: add --zero-time");
-      packets = dvs_driver::writeEventsBag(output, o.topic, s, static_cast<int64_t>(o.period_s * 1e9 + 0.5));
+      packets = dvs_driver::writeEventsBag(output, o.topic, s, static_cast<int64_t>(o.period_s * 1e9 + 0.5), "dvs",
+                                           write_meter.writeCallback());
     }
     else
-      dvs_driver::writeEventsText(output, s.events);  // checked: throws WriteError naming the file
+      dvs_driver::writeEventsText(output, s.events, write_meter.writeCallback());  // checked: throws WriteError
+    write_meter.finish(s.events.size(), s.events.size());
     if (!o.imu.empty())
     {
       // The IMU samples, on the events' time base (shifted with them by --zero-time).

@@ -63,7 +63,8 @@ public:
   Hdf5Writer(const Hdf5Writer&) = delete;
   Hdf5Writer& operator=(const Hdf5Writer&) = delete;
 
-  void write(const EventVector& events);
+  void write(const Event* events, size_t n);
+  void write(const EventVector& events) { write(events.data(), events.size()); }
   void close();
   uint64_t eventsWritten() const;
 
