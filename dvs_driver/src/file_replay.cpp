@@ -27,6 +27,11 @@ FileReplay::~FileReplay()
 void FileReplay::start(EventInputListener& listener)
 {
   stopping_ = false;
+  // The replay's wall clock starts now (when the driver stamps the first event with file_time
+  // replay), not when the first block has been read: reading it delays the first chunks, as a
+  // late camera would, instead of shifting every chunk after its events' time.
+  started_clock_ = false;
+  wall0_ = std::chrono::steady_clock::now();
   if (options_.sensor_width > 0 && options_.sensor_height > 0)
     validator_.setSensor(options_.sensor_width, options_.sensor_height);
   else
@@ -201,7 +206,6 @@ void FileReplay::deliver(EventInputListener& listener, EventVector& chunk)
   if (!started_clock_)
   {
     started_clock_ = true;
-    wall0_ = Clock::now();
     t0_ = chunk.front().t_ns;
   }
   if (options_.speed > 0)

@@ -1,11 +1,13 @@
 // rostest: the tracker falls behind gracefully (issue 16). A simulated DAVIS346 sequence with two
-// 1000 deg/s flips (about 0.8 M events/s of data) is published at 3x real time, about twice
-// what the tracker can process: the latency from a packet's publication to the pose of its last
-// event stays bounded (the tracker tracks every k-th event instead of queueing), the skipped
-// events are reported in diagnostics, and the tracker keeps tracking.
+// 1000 deg/s flips (about 0.7 M events/s of data) is published faster than real time, about twice
+// what the tracker node can process on this machine: the latency from a packet's publication to
+// the pose of its last event stays bounded (the tracker tracks every k-th event instead of
+// queueing), the skipped events are reported in diagnostics, and the tracker keeps tracking.
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include "camera_info_latch.h"
 #include <dvs_driver/event_bag_io.h>
+#include <dvs_line_tracker/line_map.h>
+#include <dvs_line_tracker/line_tracker.h>
 #include <dvs_screen_sim/dataset.h>
 #include <dvs_screen_sim/sim_config.h>
 #include <geometry_msgs/PoseStamped.h>
@@ -19,16 +21,34 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
+#include <cstdio>
 #include <cmath>
 #include <map>
 #include <mutex>
 
 namespace
 {
-// 3x real time (2.2 M events/s, twice what the tracker processes): at 5x the tracker sometimes
-// loses the track and its initialisation, far slower, stalls the queue for 1-2 s
-// (BENCHMARKS.md); that is measured there, not asserted here.
-constexpr double kSpeed = 3.0;
+// The publishing speed: at least 3x real time (2.2 M events/s), and at least 1.2x the rate at
+// which the tracker core processes this sequence offline on this machine (the node, with ROS
+// around it, tracks at about 0.6x the core's rate: so about twice what the node can process,
+// whatever the machine; a fixed 3x was twice the node's rate on a slow machine and none on a
+// fast one). Far beyond that (5x on the slow machine) the tracker sometimes loses the track and
+// its initialisation, far slower, stalls the queue for 1-2 s (BENCHMARKS.md); that is measured
+// there, not asserted here.
+constexpr double kMinSpeed = 3.0;
+constexpr double kOverCoreRate = 1.2;
+
+/// Events per second of wall time of the tracker core over the whole sequence.
+double coreEventsPerSecond(const dvs_screen_sim::SimConfig& config, const dvs_driver::EventVector& events)
+{
+  dvs_line_tracker::LineTracker tracker(config.camera, dvs_line_tracker::defaultSquareMap());
+  const auto t0 = std::chrono::steady_clock::now();
+  for (const auto& e : events)
+    tracker.processEvent(e);
+  const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return events.size() / std::max(1e-6, s);
+}
 
 std::string diagnosticValue(const diagnostic_msgs::DiagnosticStatus& s, const std::string& key)
 {
@@ -90,6 +110,14 @@ TEST(TrackerOverload, ThreeTimesRealTimeKeepsTheLatencyBounded)
     ros::WallDuration(0.02).sleep();
   ASSERT_TRUE(info.taken()) << "the tracker did not take the camera_info within 30 s";
 
+  const double data_rate = sim.events.size() / ((sim.events.back().t_ns - sim.events.front().t_ns) * 1e-9);
+  const double core_rate = coreEventsPerSecond(config, sim.events);
+  const double kSpeed = std::max(kMinSpeed, kOverCoreRate * core_rate / data_rate);
+  std::printf("overload: the tracker core runs this sequence at %.2f M events/s offline; data %.2f M events/s; "
+              "published at %.2fx real time\n",
+              core_rate * 1e-6, data_rate * 1e-6, kSpeed);
+  ::testing::Test::RecordProperty("speed_x_real_time", std::to_string(kSpeed));
+
   // 1 ms packets, each published when the wall clock reaches its last event at kSpeed.
   const int64_t t0 = sim.events.front().t_ns;
   const ros::WallTime wall0 = ros::WallTime::now();
@@ -135,7 +163,8 @@ TEST(TrackerOverload, ThreeTimesRealTimeKeepsTheLatencyBounded)
   (void)last_event;
 
   std::lock_guard<std::mutex> l(m);
-  EXPECT_LT(publish_s, 1.5) << "the publisher itself could not keep even 1.7x real time";
+  const double span_s = (sim.events.back().t_ns - sim.events.front().t_ns) * 1e-9;
+  EXPECT_LT(publish_s, span_s / kSpeed * 1.7 + 0.1) << "the publisher itself could not keep 60 % of the intended speed";
   ASSERT_GT(lags_s.size(), 100u);
   std::vector<double> sorted = lags_s;
   std::sort(sorted.begin(), sorted.end());

@@ -27,6 +27,7 @@
 
 #include <atomic>
 #include <cstdio>
+#include <map>
 #include <mutex>
 
 using namespace dvs_line_tracker;
@@ -231,6 +232,31 @@ TEST(TrackerRos, TracksASimulatedBag)
       imu_message = kv.value;
   }
   EXPECT_EQ(imu_status, "OK") << "the IMU is not fused at the end: " << imu_message;
+
+  // The latency split (latency_split.h): the events counted in the total and in each part, the
+  // packets stamped on the wall clock (the clock matches the events), p50 <= p99 <= max.
+  std::map<std::string, std::string> latency;
+  for (const auto& kv : rx.diagnostics.back().values)
+    if (kv.key.rfind("latency: ", 0) == 0)
+      latency[kv.key] = kv.value;
+  EXPECT_EQ(latency["latency: packets with the clock away from the events' time"], "0");
+  for (const char* part : {"total, event -> pose published", "accumulation, event -> last event of its packet",
+                           "transport, last event -> packet arrived", "queue, arrived -> taken by the tracking thread",
+                           "processing", "publishing"})
+  {
+    const std::string v = latency[std::string("latency: ") + part];
+    double p50 = -1, p99 = -1, max = -1;
+    unsigned long long n = 0;
+    ASSERT_EQ(std::sscanf(v.c_str(), "p50 / p99 / max = %lf / %lf / %lf ms (%llu)", &p50, &p99, &max, &n), 4)
+        << part << ": " << v;
+    // every event once (the last diagnostics may come before the last packet or two)
+    EXPECT_LE(n, sim.events.size()) << part;
+    EXPECT_GE(n, sim.events.size() * 99 / 100) << part;
+    EXPECT_LE(0.0, p50) << part;
+    EXPECT_LE(p50, p99) << part;
+    EXPECT_LE(p99, max) << part;
+    EXPECT_LT(p50, 1000.0) << part << ": " << v;  // ms: the wall clock matches the events' stamps
+  }
 
   // ~odometry: world -> base_link (tracker_*.test: the camera 0.1 m ahead of the body, rolled by
   // 90 deg), at ~output_rate (200 Hz), stamps never going back, covariances symmetric positive definite, the body pose

@@ -48,6 +48,7 @@ def main(argv):
         "estimate_latency_max_ms": run["estimate_latency_max_ms"],
         "tracker_state": diag.get("state", diag.get("message", "")),
         "tracker_losses": diag.get("losses"),
+        "tracker_latency_split": {k[len("latency: "):]: v for k, v in diag.items() if k.startswith("latency: ")},
     }
     with open(os.path.join(out, "summary.json"), "w") as f:
         json.dump(summary, f, indent=1)
@@ -72,6 +73,12 @@ def main(argv):
     if diag:
         print("  tracker state at its last diagnostics: %s, losses %s, re-initialisations %s"
               % (diag.get("state", diag.get("message", "?")), diag.get("losses", "?"), diag.get("re-initializations", "?")))
+        split = [(k[len("latency: "):], v) for k, v in diag.items() if k.startswith("latency: ")]
+        if split:
+            print("  the tracker's own latency split (per event, from its diagnostics; the recorder's figure above adds"
+                  " the Python recorder's receipt):")
+            for k, v in split:
+                print("    %-58s %s" % (k, v))
     print("outputs in %s:" % out)
     for name, what in (("flip.png", "estimate vs ground truth per axis and angle, with errors (Fig. 4.15-like)"),
                        ("estimate.tum", "tracker poses, TUM"), ("groundtruth.tum", "ground truth, TUM"),

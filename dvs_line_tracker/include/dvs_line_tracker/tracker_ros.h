@@ -5,6 +5,7 @@
 #include <dvs_driver/param_table.h>
 #include <dvs_line_tracker/body_odometry.h>
 #include <dvs_line_tracker/imu_propagator.h>
+#include <dvs_line_tracker/latency_split.h>
 #include <dvs_line_tracker/line_tracker.h>
 #include <dvs_line_tracker/overload_governor.h>
 #include <dvs_line_tracker/tracker_params.h>
@@ -42,10 +43,17 @@ private:
   /// and tracks them, every event or every k-th when it falls behind (OverloadGovernor). The
   /// callbacks only queue, so the backlog is visible here rather than in ROS's queue.
   void trackingLoop();
+  struct PendingPacket
+  {
+    dvs_msgs::EventArrayConstPtr msg;
+    ros::WallTime arrival;
+    ros::Time arrival_clock;  ///< the ROS clock at arrival (the events' time base): the latency's transport
+  };
   /// Under both locks: the next packet to track (false: none, or it waits for its IMU samples).
-  bool nextPacket(dvs_msgs::EventArrayConstPtr& msg);
+  bool nextPacket(PendingPacket& packet);
   /// Track every `stride`-th event of the packet; returns the events given to the tracker.
-  size_t processPacket(const dvs_msgs::EventArrayConstPtr& msg, int stride);
+  /// `start`: when the tracking thread took the packet (the latency's queue and processing).
+  size_t processPacket(const PendingPacket& packet, int stride, ros::WallTime start);
   void onOutputTimer(const ros::TimerEvent& ev);
   /// ~odometry at t_ns (the IMU filter predicted to it, or the vision's pose); nothing before tracking.
   void publishOdometry(int64_t t_ns);
@@ -67,11 +75,7 @@ private:
   Pose T_camera_body_;
   std::recursive_mutex mutex_;  ///< the tracker and its IMU (the nodelet's callbacks may run in parallel; diagnostics run inside them)
   int64_t last_event_ns_ = INT64_MIN, last_odometry_ns_ = INT64_MIN;
-  struct PendingPacket
-  {
-    dvs_msgs::EventArrayConstPtr msg;
-    ros::WallTime arrival;
-  };
+  LatencySplit latency_;  ///< event -> pose published, in parts (with mutex_; diagnostics)
   // The queue has its own lock, never held for long: the callbacks only queue (they would
   // otherwise wait behind a packet being tracked and the backlog would pile up unseen in ROS's
   // subscriber queue). Lock order: mutex_, then queue_mutex_.

@@ -219,7 +219,7 @@ void TrackerRos::onEvents(const dvs_msgs::EventArrayConstPtr& msg)
   }
   {
     std::lock_guard<std::mutex> q(queue_mutex_);
-    pending_.push_back({msg, ros::WallTime::now()});
+    pending_.push_back({msg, ros::WallTime::now(), ros::Time::now()});
     pending_events_ += msg->events.size();
     // Memory stays bounded whatever comes in: the oldest packets go first (counted, warned).
     while (pending_.size() > 1 && overload_.overQueueLimit(pending_events_))
@@ -233,7 +233,7 @@ void TrackerRos::onEvents(const dvs_msgs::EventArrayConstPtr& msg)
   wake_.notify_one();
 }
 
-bool TrackerRos::nextPacket(dvs_msgs::EventArrayConstPtr& msg)
+bool TrackerRos::nextPacket(PendingPacket& packet)
 {
   // Events and IMU samples come on two topics, and either may arrive first: while the IMU is
   // used, a packet waits until the IMU has reached its last event, so that the IMU carries the
@@ -256,8 +256,8 @@ bool TrackerRos::nextPacket(dvs_msgs::EventArrayConstPtr& msg)
       ros::WallTime::now() - p.arrival < ros::WallDuration(1.0))
     return false;
   queue_wait_max_s_ = std::max(queue_wait_max_s_, (ros::WallTime::now() - p.arrival).toSec());
-  msg = p.msg;
-  pending_events_ -= msg->events.size();
+  packet = p;
+  pending_events_ -= packet.msg->events.size();
   pending_.pop_front();
   return true;
 }
@@ -268,23 +268,24 @@ void TrackerRos::trackingLoop()
   {
     // Between packets the IMU callback and ~output_rate's thread get the tracker's lock.
     std::unique_lock<std::recursive_mutex> lock(mutex_);
-    dvs_msgs::EventArrayConstPtr msg;
+    PendingPacket packet;
     int stride = 1;
     {
       std::unique_lock<std::mutex> q(queue_mutex_);
       if (stopping_)
         return;
-      if (!nextPacket(msg))
+      if (!nextPacket(packet))
       {
         // A packet or an IMU sample wakes it; the timeout tracks a packet whose IMU stopped.
         lock.unlock();
         wake_.wait_for(q, std::chrono::milliseconds(100));
         continue;
       }
-      stride = overload_.strideFor(pending_events_ + msg->events.size());
+      stride = overload_.strideFor(pending_events_ + packet.msg->events.size());
     }
+    const dvs_msgs::EventArrayConstPtr& msg = packet.msg;
     const auto t0 = std::chrono::steady_clock::now();
-    const size_t tracked = processPacket(msg, stride);
+    const size_t tracked = processPacket(packet, stride, ros::WallTime::now());
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     std::lock_guard<std::mutex> q(queue_mutex_);
     overload_.tracked(tracked, seconds);
@@ -294,8 +295,9 @@ void TrackerRos::trackingLoop()
   }
 }
 
-size_t TrackerRos::processPacket(const dvs_msgs::EventArrayConstPtr& msg, int stride)
+size_t TrackerRos::processPacket(const PendingPacket& packet, int stride, ros::WallTime start)
 {
+  const dvs_msgs::EventArrayConstPtr& msg = packet.msg;
   const bool per_event = settings_.publish_per_event_poses && pose_pub_.getNumSubscribers() > 0;
   const bool batched = poses_pub_.getNumSubscribers() > 0;
   nav_msgs::PathPtr poses;
@@ -340,6 +342,7 @@ size_t TrackerRos::processPacket(const dvs_msgs::EventArrayConstPtr& msg, int st
       p.pose = toPoseMsg(tracker_->pose());
     }
   }
+  const ros::WallTime processed = ros::WallTime::now();
   events_since_diag_ += msg->events.size();
   if (!msg->events.empty())
     last_event_ns_ = dvs_driver::rosTimeToNs(msg->events.back().ts);
@@ -352,6 +355,20 @@ size_t TrackerRos::processPacket(const dvs_msgs::EventArrayConstPtr& msg, int st
     poses_pub_.publish(poses);
   }
   publishPacket(*msg, last_update_ns, any_update);
+  if (!msg->events.empty())
+  {
+    // The latency of every event of the packet, in parts (latency_split.h).
+    PacketTiming t;
+    t.last_event_ns = last_event_ns_;
+    t.arrival_clock_ns = dvs_driver::rosTimeToNs(packet.arrival_clock);
+    t.queue_s = (start - packet.arrival).toSec();
+    t.processing_s = (processed - start).toSec();
+    t.publishing_s = (ros::WallTime::now() - processed).toSec();
+    t.events = msg->events.size();
+    latency_.beginPacket(t);
+    for (const auto& m : msg->events)
+      latency_.addEvent(dvs_driver::rosTimeToNs(m.ts));
+  }
   diagnostics_.update();
   return tracked;
 }
@@ -561,6 +578,15 @@ void TrackerRos::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat)
   dropped_at_diag_ = o.events_dropped;
   queue_wait_max_s_ = 0;
   q.unlock();
+  // Event -> pose published, per event, since the start (latency_split.h); "no samples" for the
+  // total when the clock is not the events' (a replay without use_sim_time).
+  stat.add("latency: total, event -> pose published", latency_.total().summaryMs());
+  stat.add("latency: accumulation, event -> last event of its packet", latency_.accumulation().summaryMs());
+  stat.add("latency: transport, last event -> packet arrived", latency_.transport().summaryMs());
+  stat.add("latency: queue, arrived -> taken by the tracking thread", latency_.queue().summaryMs());
+  stat.add("latency: processing", latency_.processing().summaryMs());
+  stat.add("latency: publishing", latency_.publishing().summaryMs());
+  stat.add("latency: packets with the clock away from the events' time", latency_.clockMismatches());
   stat.add("IMU messages", imu_messages_);
   if (imu_)
   {

@@ -91,12 +91,15 @@ void SimulatorRos::runLoop()
   do
   {
     // Time base of this run: wall clock at start, or the configured offset.
+    // The wall clock of the run starts with its time base: what sim.start() takes (rendering the
+    // first view) delays the first packets, as a late driver would, but never shifts every
+    // packet after the time of its events (a constant latency seen by every consumer).
     const ros::Time base = wall_clock_stamps_ ? ros::Time::now() : secondsToRosTime(0.0);
+    const auto wall_start = std::chrono::steady_clock::now();
     const int64_t base_ns = dvs_driver::rosTimeToNs(base) + config_.time_offset_ns;
     map_pub_.publish(mapMarkers(config_.scene, base, world_frame_));
     sim.start(*trajectory, 0.0, base_ns);
     imu.restart();
-    const auto wall_start = std::chrono::steady_clock::now();
     long gt_index = 0;
     double next_info = 0.0;
     for (int64_t k = 1; !stop_ && ros::ok() && !ros::isShuttingDown(); ++k)
