@@ -98,6 +98,7 @@ HoughLineDetector::HoughLineDetector(int width, int height, const HoughParams& p
     sin_.push_back(std::sin(th));
   }
   acc_.assign(static_cast<size_t>(num_theta_) * num_r_, 0);
+  index_ = LinePointIndex(num_theta_, r_max_, params.radius_bin_px, Eigen::Vector2d(cx_, cy_));
   window_.resize(params.window_events);
   window_pixel_.assign(params.window_events, -1);
   evidence_.resize(std::max(params.window_events, params.evidence_events));
@@ -115,7 +116,7 @@ void HoughLineDetector::reset()
   std::fill(last_event_index_.begin(), last_event_index_.end(), std::numeric_limits<int64_t>::min() / 2);
 }
 
-void HoughLineDetector::vote(float x, float y, int increment)
+void HoughLineDetector::vote(float x, float y, int increment, std::vector<int>& acc) const
 {
   const double xc = x - cx_, yc = y - cy_;
   for (int k = 0; k < num_theta_; ++k)
@@ -123,7 +124,7 @@ void HoughLineDetector::vote(float x, float y, int increment)
     const double r = xc * cos_[k] + yc * sin_[k];
     const int rb = static_cast<int>((r + r_max_) / params_.radius_bin_px);
     if (rb >= 0 && rb < num_r_)
-      acc_[k * num_r_ + rb] += increment;
+      acc[k * num_r_ + rb] += increment;
   }
 }
 
@@ -162,7 +163,7 @@ bool HoughLineDetector::addEvent(float x_ideal, float y_ideal, int sx, int sy, i
   if (window_count_ == capacity)
   {
     const Eigen::Vector2f& old = window_[window_head_];
-    vote(old.x(), old.y(), -1);
+    vote(old.x(), old.y(), -1, acc_);
     if (window_pixel_[window_head_] >= 0)
       in_window_[window_pixel_[window_head_]] = 0;
   }
@@ -173,7 +174,7 @@ bool HoughLineDetector::addEvent(float x_ideal, float y_ideal, int sx, int sy, i
   if (on_sensor)
     in_window_[pixel] = 1;
   window_head_ = (window_head_ + 1) % capacity;
-  vote(x_ideal, y_ideal, +1);
+  vote(x_ideal, y_ideal, +1, acc_);
   evidence_[evidence_head_] = Eigen::Vector2f(x_ideal, y_ideal);
   evidence_head_ = (evidence_head_ + 1) % static_cast<int>(evidence_.size());
   evidence_count_ = std::min(evidence_count_ + 1, static_cast<int>(evidence_.size()));
@@ -234,13 +235,38 @@ std::vector<ImageSegment> HoughLineDetector::detectSegments() const
   auto bins = candidateBins();
   if (static_cast<int>(bins.size()) > params_.max_candidates)
     bins.resize(params_.max_candidates);
+  index_.reset(points);
+  explained_.assign(points.size(), 0);
 
   const double half_dtheta = 0.5 * M_PI / num_theta_;
   std::vector<ImageSegment> all;
-  std::vector<Eigen::Vector2d> support;
+  std::vector<Eigen::Vector2d> support, near;
+  std::vector<int> candidates;
   std::vector<ImageLine> processed;
+  // The points within the attribution distance of `line`, in the window's order, and their
+  // indices in the window.
+  std::vector<int> near_index;
+  auto pointsNear = [&](const ImageLine& line, std::vector<Eigen::Vector2d>& out) {
+    index_.nearLine(line.theta, line.r, params_.attribution_distance_px, candidates);
+    out.clear();
+    near_index.clear();
+    const Eigen::Vector2d ln = line.normal();
+    for (const int i : candidates)
+      if (std::abs(points[i].dot(ln) - line.r) <= params_.attribution_distance_px)
+      {
+        out.push_back(points[i]);
+        near_index.push_back(i);
+      }
+  };
+  // Progressive Hough: the votes of the points a found segment explains leave this copy of the
+  // accumulator, and a bin whose remaining votes fall below the threshold is no candidate any
+  // more (the other bins of the same edge).
+  if (params_.remove_found_votes)
+    fresh_votes_ = acc_;
   for (const auto& [k, rb] : bins)
   {
+    if (params_.remove_found_votes && fresh_votes_[k * num_r_ + rb] < params_.vote_threshold)
+      continue;
     // Support: points whose Hough curve passes through the bin (any angle inside it).
     const ImageLine centre = binLine(k, rb);
     double cs[3], sn[3], off[3];
@@ -253,9 +279,13 @@ std::vector<ImageSegment> HoughLineDetector::detectSegments() const
       off[a] = -(cx_ * cs[a] + cy_ * sn[a]) + cx_ * std::cos(centre.theta) + cy_ * std::sin(centre.theta);
     }
     const double r_lo = centre.r - params_.radius_bin_px / 2, r_hi = centre.r + params_.radius_bin_px / 2;
+    const double r_centred = (rb + 0.5) * params_.radius_bin_px - r_max_;
+    index_.candidates(centre.theta, r_centred - params_.radius_bin_px / 2, r_centred + params_.radius_bin_px / 2,
+                      half_dtheta, candidates);
     support.clear();
-    for (const auto& p : points)
+    for (const int i : candidates)
     {
+      const Eigen::Vector2d& p = points[i];
       double rmin = std::numeric_limits<double>::max(), rmax = -rmin;
       for (int a = 0; a < 3; ++a)
       {
@@ -270,11 +300,7 @@ std::vector<ImageSegment> HoughLineDetector::detectSegments() const
       continue;
     // Fit, then gate at the attribution distance and refit once to shed stray support.
     ImageLine line = fitLine(support);
-    support.clear();
-    const Eigen::Vector2d ln = line.normal();
-    for (const auto& p : points)
-      if (std::abs(p.dot(ln) - line.r) <= params_.attribution_distance_px)
-        support.push_back(p);
+    pointsNear(line, support);
     if (static_cast<int>(support.size()) < params_.min_segment_events)
       continue;
     line = fitLine(support);
@@ -293,8 +319,27 @@ std::vector<ImageSegment> HoughLineDetector::detectSegments() const
     if (seen)
       continue;
     processed.push_back(line);
-    for (const auto& seg : splitIntoSegments(points, line, params_))
+    pointsNear(line, near);
+    const Eigen::Vector2d dir(-line.normal().y(), line.normal().x());
+    for (const auto& seg : splitIntoSegments(near, line, params_))
+    {
       all.push_back(seg);
+      if (!params_.remove_found_votes)
+        continue;
+      // The segment explains the points near the line along its extent (a pixel beyond).
+      double a0 = seg.p0.dot(dir), a1 = seg.p1.dot(dir);
+      if (a0 > a1)
+        std::swap(a0, a1);
+      for (size_t j = 0; j < near.size(); ++j)
+      {
+        const int i = near_index[j];
+        const double along = near[j].dot(dir);
+        if (explained_[i] || along < a0 - 1.0 || along > a1 + 1.0)
+          continue;
+        explained_[i] = 1;
+        vote(static_cast<float>(points[i].x()), static_cast<float>(points[i].y()), -1, fresh_votes_);
+      }
+    }
   }
   // Remove duplicates (adjacent bins find the same segment): keep the one with most events.
   std::sort(all.begin(), all.end(), [](const ImageSegment& a, const ImageSegment& b) {

@@ -335,7 +335,8 @@ bool estimateInitialPose(const std::vector<Eigen::Vector2d>& corners_ideal_px, c
           world_cv.emplace_back(world.back().x(), world.back().y(), world.back().z());
         }
         // IPPE for planar polygons; it degenerates (NaN) for exactly fronto-parallel views,
-        // where SQPnP takes over.
+        // where SQPnP takes over (and for non-planar ones). SQPnP is a global search about ten
+        // times IPPE's cost: it runs only when IPPE gave no pose that fits the corners.
         Pose pose;
         double rms = std::numeric_limits<double>::infinity();
         for (const int method : {cv::SOLVEPNP_IPPE, cv::SOLVEPNP_SQPNP})
@@ -363,7 +364,7 @@ bool estimateInitialPose(const std::vector<Eigen::Vector2d>& corners_ideal_px, c
             rms = candidate_rms;
             pose = candidate;
           }
-          if (rms < 0.5)
+          if (rms <= params.max_reprojection_rms_px)
             break;
         }
         if (!(rms <= params.max_reprojection_rms_px))

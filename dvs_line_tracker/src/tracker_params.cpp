@@ -31,6 +31,8 @@ dvs_driver::ParamTable trackerParamTable(LineTrackerParams& p, std::string& solv
   t.add("segment_min_events", p.hough.min_segment_events, "events", 1, 1000000, "segments with fewer are dropped");
   t.add("init_window_events", p.hough.window_events, "events", 1, 10000000, "latest events voting in the Hough space");
   t.add("init_unique_pixels", p.hough.unique_pixels, "a pixel already in the window does not vote again");
+  t.add("hough_remove_found_votes", p.hough.remove_found_votes,
+        "progressive Hough: a found segment's events stop voting for the rest of the detection");
   t.add("init_neighbour_filter", p.hough.neighbour_filter, "vote only for events with neighbours that fired shortly before");
   t.add("init_neighbour_filter_events", p.hough.neighbour_filter_events, "events", 1, 10000000,
         "'shortly before': among this many latest events");

@@ -139,3 +139,76 @@ TEST(SegmentSplit, FitLineRecoversATiltedLine)
   for (const auto& q : pts)
     EXPECT_NEAR(l.distance(q), 0.0, 1e-9);
 }
+
+namespace
+{
+// The four thick (3 px) sides of a square, their events interleaved as an edge sweep makes them.
+void addThickSquare(HoughLineDetector& h, double x0, double y0, double side)
+{
+  for (int step = 0; step <= static_cast<int>(side); ++step)
+    for (int w = -1; w <= 1; ++w)
+    {
+      const double s = step;
+      const Eigen::Vector2d pts[4] = {{x0 + s, y0 + w}, {x0 + side + w, y0 + s}, {x0 + side - s, y0 + side + w},
+                                      {x0 + w, y0 + side - s}};
+      for (const auto& p : pts)
+      {
+        const int x = static_cast<int>(std::lround(p.x())), y = static_cast<int>(std::lround(p.y()));
+        h.addEvent(static_cast<float>(x), static_cast<float>(y), x, y, 0);
+      }
+    }
+}
+
+// How many of `expected` (p0, p1 in any order) have a segment within `tol` px at both ends.
+int matchedSides(const std::vector<ImageSegment>& segs, const std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>>& expected,
+                 double tol)
+{
+  int matched = 0;
+  for (const auto& [a, b] : expected)
+    for (const auto& s : segs)
+      if (((s.p0 - a).norm() < tol && (s.p1 - b).norm() < tol) || ((s.p0 - b).norm() < tol && (s.p1 - a).norm() < tol))
+      {
+        ++matched;
+        break;
+      }
+  return matched;
+}
+}  // namespace
+
+TEST(Hough, ProgressiveVoteRemovalFindsTheSameSidesOfAThickSquare)
+{
+  // Thick edges put many bins over the threshold along each side: with the found segments'
+  // votes removed the other bins of a side are no candidates; the four sides come out as with
+  // every bin examined, without the pieces of each side that the other bins add.
+  const std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> sides = {
+      {{30, 30}, {90, 30}}, {{90, 30}, {90, 90}}, {{90, 90}, {30, 90}}, {{30, 90}, {30, 30}}};
+  for (const bool progressive : {false, true})
+  {
+    HoughParams p;
+    p.neighbour_filter = false;
+    p.remove_found_votes = progressive;
+    HoughLineDetector h(128, 128, p);
+    addThickSquare(h, 30, 30, 60);
+    const auto segs = h.detectSegments();
+    EXPECT_EQ(matchedSides(segs, sides, 2.5), 4) << "progressive " << progressive;
+    if (progressive)
+      EXPECT_EQ(segs.size(), 4u);  // without: pieces of the thick sides beside them too
+    else
+      EXPECT_GT(segs.size(), 4u);
+  }
+}
+
+TEST(Hough, ProgressiveVoteRemovalKeepsASideWhoseCornerEventsAnotherSideTook)
+{
+  // An L of two short sides just over the threshold: the first side found explains the corner's
+  // events; the second side still has enough votes of its own.
+  HoughParams p;
+  p.neighbour_filter = false;
+  p.remove_found_votes = true;
+  HoughLineDetector h(128, 128, p);
+  int64_t t = 0;
+  addSegmentEvents(h, {40, 40}, {40, 80}, t);  // 41 events
+  addSegmentEvents(h, {40, 40}, {72, 40}, t);  // 33 events, one of them the shared corner
+  const auto segs = h.detectSegments();
+  EXPECT_EQ(matchedSides(segs, {{{40, 40}, {40, 80}}, {{40, 40}, {72, 40}}}, 1.5), 2);
+}

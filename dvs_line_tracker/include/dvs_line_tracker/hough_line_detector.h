@@ -1,8 +1,15 @@
 #pragma once
 // Line-segment detection for the initialisation (thesis 4.2.1): the most recent events are
 // voted into a Hough space (7.5 deg x 2.5 px bins); every bin over the threshold is a line
-// candidate (not only local maxima, thesis Fig. 4.2); the events near a candidate are sorted
-// along it and split into segments at gaps; short or sparse segments are dropped.
+// candidate (not only local maxima, thesis Fig. 4.2); the events near a candidate (looked up in a
+// radius index of the window, line_point_index.h) are sorted along it and split into segments at
+// gaps; short or sparse segments are dropped. Optionally (remove_found_votes) a segment found
+// takes its events' votes out of a copy of the accumulator for the rest of the detection
+// (progressive Hough), so the other bins over the threshold along the same edge are no
+// candidates any more: about 9x faster, not the default (it delays the first pose under
+// background noise and finds fewer quadrilaterals in a real recording; BENCHMARKS.md).
+#include <dvs_line_tracker/line_point_index.h>
+
 #include <Eigen/Core>
 
 #include <cmath>
@@ -28,6 +35,7 @@ struct HoughParams
   int max_candidates = 150;             ///< candidates examined per detection, most votes first
   int max_segments = 40;                ///< longest segments kept per detection
   int evidence_events = 0;              ///< voted positions kept for validation beyond the window (0: the window)
+  bool remove_found_votes = false;      ///< progressive Hough: a found segment's points stop voting for the rest of the detection (faster, see BENCHMARKS.md)
 };
 
 /// A 2D segment in ideal (undistorted) pixel coordinates.
@@ -92,7 +100,8 @@ public:
   const HoughParams& params() const { return params_; }
 
 private:
-  void vote(float x, float y, int increment);
+  /// Adds `increment` to the bins of the point's Hough curve in `acc`.
+  void vote(float x, float y, int increment, std::vector<int>& acc) const;
 
   HoughParams params_;
   int width_, height_;
@@ -109,5 +118,10 @@ private:
   int evidence_head_ = 0, evidence_count_ = 0;
   std::vector<int64_t> last_event_index_;  // per sensor pixel, for the neighbour filter
   int64_t event_index_ = 0;
+  // detectSegments' scratch memory, reused between detections: the index of the window's
+  // points, the votes not explained by a found segment yet, which points are explained.
+  mutable LinePointIndex index_{1, 1.0, 1.0, Eigen::Vector2d::Zero()};
+  mutable std::vector<int> fresh_votes_;
+  mutable std::vector<char> explained_;
 };
 }  // namespace dvs_line_tracker
