@@ -72,16 +72,22 @@ void LinePointIndex::candidates(double theta, double r_lo, double r_hi, double h
   if (points_ == nullptr || points_->empty())
     return;
   const int n = static_cast<int>(points_->size());
-  if (!std::isfinite(theta) || !std::isfinite(r_lo) || !std::isfinite(r_hi) || !std::isfinite(half_width))
+  // Not finite, or so large that folding it by a rounded 2 pi would turn it: nothing to narrow
+  // the search by, every point.
+  if (!std::isfinite(theta) || !std::isfinite(r_lo) || !std::isfinite(r_hi) || !std::isfinite(half_width) ||
+      std::abs(theta) > 1e6)
   {
-    out.resize(n);  // nothing to narrow the search by: every point
+    out.resize(n);
     std::iota(out.begin(), out.end(), 0);
     return;
   }
   // Fold theta into [0, pi): the radius along theta + pi is the negated radius along theta.
-  const double turns = std::floor(theta / M_PI);
-  double t = theta - turns * M_PI;
-  bool flip = static_cast<long long>(turns) % 2 != 0;
+  double t = std::fmod(theta, 2 * M_PI);
+  if (t < 0)
+    t += 2 * M_PI;
+  bool flip = t >= M_PI;
+  if (flip)
+    t -= M_PI;
   const double step = M_PI / num_angles_;
   long k = std::lround(t / step);
   const double delta = std::abs(t - k * step) + std::abs(half_width);

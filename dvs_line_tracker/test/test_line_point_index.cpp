@@ -93,6 +93,13 @@ TEST(LinePointIndex, PointsBeyondTheRadiusRangeAndDegenerateQueries)
   EXPECT_EQ(got, std::vector<int>({0}));
   index.nearLine(M_PI, 400.0, 1.0, got);  // x = -400 as the line at pi
   EXPECT_EQ(got, std::vector<int>({1}));
+  index.nearLine(-3 * M_PI, 400.0, 1.0, got);  // the same line, turned
+  EXPECT_EQ(got, std::vector<int>({1}));
+  // A huge angle (beyond folding by a rounded 2 pi): the line through the centre still holds
+  // that point.
+  const double huge = 1e300;
+  index.nearLine(huge, kCentre.dot(Eigen::Vector2d(std::cos(huge), std::sin(huge))), 1.0, got);
+  EXPECT_TRUE(std::find(got.begin(), got.end(), 2) != got.end());
   // A query with nothing to narrow it by (not finite, or a wide angle range) returns every point.
   index.nearLine(std::nan(""), 0.0, 1.0, got);
   EXPECT_EQ(got.size(), 3u);
