@@ -236,7 +236,6 @@ std::vector<ImageSegment> HoughLineDetector::detectSegments() const
   if (static_cast<int>(bins.size()) > params_.max_candidates)
     bins.resize(params_.max_candidates);
   index_.reset(points);
-  explained_.assign(points.size(), 0);
 
   const double half_dtheta = 0.5 * M_PI / num_theta_;
   std::vector<ImageSegment> all;
@@ -262,7 +261,10 @@ std::vector<ImageSegment> HoughLineDetector::detectSegments() const
   // accumulator, and a bin whose remaining votes fall below the threshold is no candidate any
   // more (the other bins of the same edge).
   if (params_.remove_found_votes)
+  {
     fresh_votes_ = acc_;
+    explained_.assign(points.size(), 0);
+  }
   for (const auto& [k, rb] : bins)
   {
     if (params_.remove_found_votes && fresh_votes_[k * num_r_ + rb] < params_.vote_threshold)

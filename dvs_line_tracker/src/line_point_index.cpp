@@ -56,10 +56,11 @@ void LinePointIndex::build(int k)
   }
   std::partial_sum(offsets, offsets + num_buckets_ + 1, offsets);
   int* sorted = sorted_.data() + static_cast<size_t>(k) * n;
-  // Stable placement (each bucket keeps the points' order); bucket_of_ is reused as the cursor.
+  // Stable placement (each bucket keeps the points' order), each bucket's start serving as its
+  // write cursor.
   for (int i = 0; i < n; ++i)
     sorted[offsets[bucket_of_[i]]++] = i;
-  // The placement advanced every start to the next bucket's: shift back.
+  // The cursors ended at the next bucket's start: shift back.
   for (int b = num_buckets_; b > 0; --b)
     offsets[b] = offsets[b - 1];
   offsets[0] = 0;
