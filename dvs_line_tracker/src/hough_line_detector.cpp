@@ -229,7 +229,7 @@ std::vector<Eigen::Vector2d> HoughLineDetector::evidencePoints() const
   return ringPoints(evidence_, evidence_head_, evidence_count_);
 }
 
-std::vector<ImageSegment> HoughLineDetector::detectSegments() const
+std::vector<ImageSegment> HoughLineDetector::detectSegments(bool progressive) const
 {
   const std::vector<Eigen::Vector2d> points = windowPoints();
   auto bins = candidateBins();
@@ -260,14 +260,14 @@ std::vector<ImageSegment> HoughLineDetector::detectSegments() const
   // Progressive Hough: the votes of the points a found segment explains leave this copy of the
   // accumulator, and a bin whose remaining votes fall below the threshold is no candidate any
   // more (the other bins of the same edge).
-  if (params_.remove_found_votes)
+  if (progressive)
   {
     fresh_votes_ = acc_;
     explained_.assign(points.size(), 0);
   }
   for (const auto& [k, rb] : bins)
   {
-    if (params_.remove_found_votes && fresh_votes_[k * num_r_ + rb] < params_.vote_threshold)
+    if (progressive && fresh_votes_[k * num_r_ + rb] < params_.vote_threshold)
       continue;
     // Support: points whose Hough curve passes through the bin (any angle inside it).
     const ImageLine centre = binLine(k, rb);
@@ -326,7 +326,7 @@ std::vector<ImageSegment> HoughLineDetector::detectSegments() const
     for (const auto& seg : splitIntoSegments(near, line, params_))
     {
       all.push_back(seg);
-      if (!params_.remove_found_votes)
+      if (!progressive)
         continue;
       // The segment explains the points near the line along its extent (a pixel beyond).
       double a0 = seg.p0.dot(dir), a1 = seg.p1.dot(dir);

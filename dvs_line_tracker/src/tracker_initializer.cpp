@@ -64,7 +64,7 @@ HoughParams scaledHough(const TrackingGeometry& g, const LineTrackerParams& p)
 std::string InitializerStats::json() const
 {
   const std::pair<const char*, uint64_t> fields[] = {
-      {"attempts", attempts},         {"segments", segments},         {"polygons", polygons},
+      {"attempts", attempts},         {"full_hough_attempts", full_hough_attempts}, {"segments", segments},         {"polygons", polygons},
       {"cut_by_border", cut_by_border}, {"pose_failed", pose_failed}, {"coverage_failed", coverage_failed}, {"unexplained", unexplained},
       {"ambiguous", ambiguous},       {"unconfirmed", unconfirmed},   {"declined", declined},
       {"accepted", accepted},         {"prior_attempts", prior_attempts}, {"prior_accepted", prior_accepted}};
@@ -197,11 +197,26 @@ bool TrackerInitializer::tryInitialize(const StartTracking& start)
 {
   if (tryPrior(start))
     return true;
-  std::vector<ImageSegment> segments = hough_.detectSegments();
+  ++stats_.attempts;
+  const RecentEvents recent = recentEvents();
+  const bool progressive = params_.hough.remove_found_votes;
+  const Outcome o = trySegments(hough_.detectSegments(progressive), recent, start);
+  // Nothing to start from or to confirm: the full Hough finds what noise hid from the
+  // progressive one (a noise event explained by a wrong segment no longer votes for the side).
+  if (o == Outcome::kNext && progressive && params_.init_full_hough_fallback && hough_.numWindowEvents() > 0)
+  {
+    ++stats_.full_hough_attempts;
+    return trySegments(hough_.detectSegments(false), recent, start) == Outcome::kStarted;
+  }
+  return o == Outcome::kStarted;
+}
+
+TrackerInitializer::Outcome TrackerInitializer::trySegments(std::vector<ImageSegment> segments,
+                                                            const RecentEvents& recent, const StartTracking& start)
+{
   segments.erase(std::remove_if(segments.begin(), segments.end(),
                                 [this](const ImageSegment& sg) { return alongBorder(sg); }),
                  segments.end());
-  ++stats_.attempts;
   stats_.segments += segments.size();
   // The polygons of the detected segments first, then those that need a segment split where
   // another one meets it (collinear sides of neighbouring polygons detected as one segment).
@@ -215,12 +230,11 @@ bool TrackerInitializer::tryInitialize(const StartTracking& start)
       for (ImagePolygon& polygon : findPolygons(split, sides, params_.polygon, 8, kSearchPolygons))
         if (std::none_of(polygons.begin(), polygons.end(), [&](const ImagePolygon& q) { return sameCorners(q, polygon); }))
           polygons.push_back(std::move(polygon));
-  const RecentEvents recent = recentEvents();
   for (const ImagePolygon& polygon : polygons)
   {
     const Outcome o = tryPolygon(polygon, recent, start);
     if (o != Outcome::kNext)
-      return o == Outcome::kStarted;
+      return o;
   }
   // When no whole polygon started tracking: polygons with one side out of view (a partial view
   // with a side beyond the border).
@@ -240,14 +254,14 @@ bool TrackerInitializer::tryInitialize(const StartTracking& start)
   };
   Outcome o = tryOpenPolygons(split, -1);
   if (o != Outcome::kNext)
-    return o == Outcome::kStarted;
+    return o;
   // Then open polygons with an inner side too weak to be detected (parallel to the motion),
   // bridged between the inner ends of its neighbours.
   const std::vector<ImageSegment> bridged =
       bridgeBorderSegments(split, params_.polygon, geometry_.width, geometry_.height, border);
   if (bridged.size() > split.size())
     o = tryOpenPolygons(bridged, static_cast<int>(split.size()));
-  return o == Outcome::kStarted;
+  return o;
 }
 
 TrackerInitializer::Outcome TrackerInitializer::tryPolygon(const ImagePolygon& polygon, const RecentEvents& recent,

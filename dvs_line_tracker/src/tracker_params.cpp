@@ -33,6 +33,8 @@ dvs_driver::ParamTable trackerParamTable(LineTrackerParams& p, std::string& solv
   t.add("init_unique_pixels", p.hough.unique_pixels, "a pixel already in the window does not vote again");
   t.add("hough_remove_found_votes", p.hough.remove_found_votes,
         "progressive Hough: a found segment's events stop voting for the rest of the detection");
+  t.add("init_full_hough_fallback", p.init_full_hough_fallback,
+        "when the progressive Hough's segments give no pose, the same attempt tries the full Hough");
   t.add("init_neighbour_filter", p.hough.neighbour_filter, "vote only for events with neighbours that fired shortly before");
   t.add("init_neighbour_filter_events", p.hough.neighbour_filter_events, "events", 1, 10000000,
         "'shortly before': among this many latest events");

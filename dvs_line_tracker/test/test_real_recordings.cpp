@@ -72,7 +72,10 @@ TEST(RealRecordings, BoxEdgesFormAQuadrilateral)
     if ((i + 1) % 2000)
       continue;
     ++windows;
-    const auto polys = findPolygons(hough.detectSegments(), 4, PolygonSearchParams(), 1);
+    // The full Hough (every candidate line split), which the initialiser falls back on when the
+    // progressive Hough's segments give no pose: the progressive one alone gives a quadrilateral
+    // in 3 of these 40 windows (most of the full Hough's lie across the blob inside the box).
+    const auto polys = findPolygons(hough.detectSegments(false), 4, PolygonSearchParams(), 1);
     if (polys.empty())
       continue;
     ++windows_with_polygon;

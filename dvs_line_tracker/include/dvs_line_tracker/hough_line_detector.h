@@ -3,11 +3,12 @@
 // voted into a Hough space (7.5 deg x 2.5 px bins); every bin over the threshold is a line
 // candidate (not only local maxima, thesis Fig. 4.2); the events near a candidate (looked up in a
 // radius index of the window, line_point_index.h) are sorted along it and split into segments at
-// gaps; short or sparse segments are dropped. Optionally (remove_found_votes) a segment found
+// gaps; short or sparse segments are dropped. By default (remove_found_votes) a segment found
 // takes its events' votes out of a copy of the accumulator for the rest of the detection
 // (progressive Hough), so the other bins over the threshold along the same edge are no
-// candidates any more: about 9x faster, not the default (it delays the first pose under
-// background noise and finds fewer quadrilaterals in a real recording; BENCHMARKS.md).
+// candidates any more: about 9x faster than splitting every candidate (the full Hough, which
+// the initialiser falls back on when the progressive segments give no pose: under background
+// noise a noise event explained by a wrong segment no longer votes for the side; BENCHMARKS.md).
 #include <dvs_line_tracker/line_point_index.h>
 
 #include <Eigen/Core>
@@ -35,7 +36,7 @@ struct HoughParams
   int max_candidates = 150;             ///< candidates examined per detection, most votes first
   int max_segments = 40;                ///< longest segments kept per detection
   int evidence_events = 0;              ///< voted positions kept for validation beyond the window (0: the window)
-  bool remove_found_votes = false;      ///< progressive Hough: a found segment's points stop voting for the rest of the detection (faster, see BENCHMARKS.md)
+  bool remove_found_votes = true;       ///< progressive Hough: a found segment's points stop voting for the rest of the detection (faster, see BENCHMARKS.md)
 };
 
 /// A 2D segment in ideal (undistorted) pixel coordinates.
@@ -95,7 +96,9 @@ public:
   std::vector<Eigen::Vector2d> evidencePoints() const;
 
   /// Segments found from all candidate bins, duplicates removed, longest first.
-  std::vector<ImageSegment> detectSegments() const;
+  std::vector<ImageSegment> detectSegments() const { return detectSegments(params_.remove_found_votes); }
+  /// The same, progressive (found segments' points stop voting) or not, whatever the parameters say.
+  std::vector<ImageSegment> detectSegments(bool progressive) const;
 
   const HoughParams& params() const { return params_; }
 

@@ -1,7 +1,8 @@
 #pragma once
 // (Re-)initialisation (thesis 4.2.1): the events vote in a Hough accumulator over a sliding
 // window (its event counts and gaps scaled to the sensor size); every few hundred voted events
-// the detected segments are filtered (not along the image border), assembled into image
+// segments are detected (the progressive Hough, and when its segments give no pose the full
+// Hough on the same window), filtered (not along the image border), assembled into image
 // polygons with the map's side counts (corners may lie outside the image: partial views; then
 // from segments split at junctions; then, when none started tracking, polygons with one side
 // out of view, whose poses must also explain most of the window's events, and last such
@@ -30,6 +31,7 @@ namespace dvs_line_tracker
 struct InitializerStats
 {
   uint64_t attempts = 0;              ///< detections run on the Hough window
+  uint64_t full_hough_attempts = 0;   ///< attempts that also ran the full Hough (init_full_hough_fallback)
   uint64_t segments = 0;              ///< segments found (summed over attempts)
   uint64_t polygons = 0;              ///< image polygons assembled
   uint64_t cut_by_border = 0;         ///< polygons with a corner at or beyond the image border (partial views; still tried)
@@ -98,6 +100,8 @@ private:
   /// Hypotheses from `polygon` (one per map polygon of its side count), validated, ranked and
   /// confirmed; starts tracking from the winner.
   Outcome tryPolygon(const ImagePolygon& polygon, const RecentEvents& recent, const StartTracking& start);
+  /// The polygons of the detected `segments` (border segments dropped), tried in turn.
+  Outcome trySegments(std::vector<ImageSegment> segments, const RecentEvents& recent, const StartTracking& start);
   Pose refineWithWindowEvents(const Pose& initial, const RecentEvents& recent) const;
   struct Coverage
   {

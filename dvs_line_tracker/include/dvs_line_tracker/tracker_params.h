@@ -67,6 +67,11 @@ struct LineTrackerParams
   /// re-acquired (the last pose tried first); with a healthy IMU (imu_propagator.h) the IMU
   /// carries the pose across it instead (up to imu_max_bridge). 0: off.
   double max_event_gap_s = 0.1;
+  /// When the progressive Hough's segments (hough_remove_found_votes) give no pose to start
+  /// from or to confirm, the same attempt looks again with the full Hough (every candidate line
+  /// split into segments): the progressive Hough is fast and finds the sides a thick edge's
+  /// neighbouring lines hide, the full one finds sides that noise events took.
+  bool init_full_hough_fallback = true;
   int init_check_interval = 200;     ///< voted events between detection attempts while initialising
   double init_min_check_period_s = 0.005;  ///< and at least this much event time between attempts (bounds the CPU at high rates)
   int init_min_events = 100;         ///< voted events before the first detection attempt
