@@ -39,4 +39,18 @@ bool parseCommandLine(ParamTable& table, int argc, const char* const* argv, std:
     *given = seen;
   return false;
 }
+
+std::string jsonString(const std::string& s)
+{
+  std::string o = "\"";
+  for (char c : s)
+  {
+    if (c == '"' || c == '\\')
+      o += '\\';
+    if (static_cast<unsigned char>(c) < 0x20)
+      continue;
+    o += c;
+  }
+  return o + "\"";
+}
 }  // namespace dvs_driver

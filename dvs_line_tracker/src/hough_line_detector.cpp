@@ -74,7 +74,11 @@ std::vector<ImageSegment> splitIntoSegments(const std::vector<Eigen::Vector2d>& 
 }
 
 HoughLineDetector::HoughLineDetector(int width, int height, const HoughParams& params, double ideal_radius_px)
-  : params_(params), width_(width), height_(height)
+  : params_(params)
+  , width_(width)
+  , height_(height)
+  , activity_(std::max(width, 1), std::max(height, 1), std::max(params.neighbour_filter_events, 1),
+              std::max(params.neighbour_filter_min, 1))
 {
   if (width <= 0 || height <= 0)
     throw std::invalid_argument("HoughLineDetector: image size must be positive");
@@ -103,7 +107,6 @@ HoughLineDetector::HoughLineDetector(int width, int height, const HoughParams& p
   window_pixel_.assign(params.window_events, -1);
   evidence_.resize(std::max(params.window_events, params.evidence_events));
   in_window_.assign(static_cast<size_t>(width) * height, 0);
-  last_event_index_.assign(static_cast<size_t>(width) * height, std::numeric_limits<int64_t>::min() / 2);
 }
 
 void HoughLineDetector::reset()
@@ -113,7 +116,7 @@ void HoughLineDetector::reset()
   evidence_head_ = evidence_count_ = 0;
   std::fill(window_pixel_.begin(), window_pixel_.end(), -1);
   std::fill(in_window_.begin(), in_window_.end(), 0);
-  std::fill(last_event_index_.begin(), last_event_index_.end(), std::numeric_limits<int64_t>::min() / 2);
+  activity_.reset();
 }
 
 void HoughLineDetector::vote(float x, float y, int increment, std::vector<int>& acc) const
@@ -130,29 +133,10 @@ void HoughLineDetector::vote(float x, float y, int increment, std::vector<int>& 
 
 bool HoughLineDetector::addEvent(float x_ideal, float y_ideal, int sx, int sy, int64_t /*t_ns*/)
 {
-  ++event_index_;
-  bool pass = true;
-  if (sx >= 0 && sy >= 0 && sx < width_ && sy < height_)
-  {
-    if (params_.neighbour_filter)
-    {
-      const int64_t horizon = event_index_ - params_.neighbour_filter_events;
-      int support = 0;
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx)
-        {
-          if (dx == 0 && dy == 0)
-            continue;
-          const int nx = sx + dx, ny = sy + dy;
-          if (nx < 0 || ny < 0 || nx >= width_ || ny >= height_)
-            continue;
-          if (last_event_index_[static_cast<size_t>(ny) * width_ + nx] >= horizon)
-            ++support;
-        }
-      pass = support >= params_.neighbour_filter_min;
-    }
-    last_event_index_[static_cast<size_t>(sy) * width_ + sx] = event_index_;
-  }
+  // Every event on the sensor counts towards the neighbours' activity; the filter needs its
+  // neighbours to have fired shortly before.
+  const bool supported = activity_.add(sx, sy);
+  const bool pass = !params_.neighbour_filter || supported || sx < 0 || sy < 0 || sx >= width_ || sy >= height_;
   if (!pass)
     return false;
   const bool on_sensor = sx >= 0 && sy >= 0 && sx < width_ && sy < height_;

@@ -74,7 +74,7 @@ LineTracker::LineTracker(const dvs_calibration::CameraModel& camera, const LineM
   , edge_model_(camera.width(), camera.height(), edgeModelParams(params_))
   , initializer_(geometry_, params_)
   , updater_(geometry_, params_)
-  , monitor_(params_, static_cast<double>(camera.width()) * camera.height())
+  , monitor_(params_, camera.width(), camera.height(), initializer_.houghParams().neighbour_filter_events)
 {
   estimator_.resize(map.segments.size(), params_.buffer_size);
   max_backwards_ns_ = static_cast<int64_t>(params_.max_time_backwards_s * 1e9);
@@ -156,7 +156,7 @@ bool LineTracker::processEvent(const dvs_driver::Event& e)
     }
   }
   const bool updated = updater_.update(estimator_, p, e.polarity, edge_offset, e.t_ns);
-  monitor_.countEvent(updated);
+  monitor_.countEvent(updated, e.x, e.y);
   if (updated)
   {
     ++stats_.events_attributed;

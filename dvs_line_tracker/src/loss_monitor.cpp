@@ -21,9 +21,18 @@ double meanResidualPx(const EstimatorState& state)
   return count > 0 ? sum / count : 0.0;
 }
 
+LossMonitor::LossMonitor(const LineTrackerParams& params, int width, int height, int horizon_events)
+  : params_(params), image_area_px_(static_cast<double>(std::max(width, 0)) * std::max(height, 0))
+{
+  if (width > 0 && height > 0)
+    activity_ = std::make_unique<NeighbourActivity>(width, height, std::max(horizon_events, 1), 2);
+}
+
 std::string LossMonitor::check(const EstimatorState& state)
 {
   const double ratio = events_ > 0 ? static_cast<double>(attributed_) / events_ : 1.0;
+  const uint64_t unattributed = events_ - attributed_;
+  const double structured = unattributed > 0 ? static_cast<double>(structured_) / unattributed : 0.0;
   reset();
   if (!state.pose.allFinite())
     return "the pose is not finite";
@@ -42,8 +51,12 @@ std::string LossMonitor::check(const EstimatorState& state)
     if (seg.visible)
       band_px += seg.visible_length * 2.0 * params_.attribution.max_orthogonal_px;
   const double chance = image_area_px_ > 0 ? std::min(1.0, band_px / image_area_px_) : 1.0;
-  if (ratio < params_.min_attributed_ratio && ratio < 1.5 * chance)
-    return "attribution collapsed (" + std::to_string(100.0 * ratio) + " % of events attributed)";
+  // At chance level the attribution tells nothing when the events not attributed are noise too
+  // (a camera pausing in front of a noisy sensor: its edges stop firing, the pose stays right);
+  // the track is lost when they hold structure the map does not explain.
+  if (ratio < params_.min_attributed_ratio && ratio < 1.5 * chance && structured >= params_.min_unattributed_structure)
+    return "attribution collapsed (" + std::to_string(100.0 * ratio) + " % of events attributed, " +
+           std::to_string(100.0 * structured) + " % of the rest next to each other)";
   return "";
 }
 }  // namespace dvs_line_tracker

@@ -54,7 +54,12 @@ HoughParams scaledHough(const TrackingGeometry& g, const LineTrackerParams& p)
   HoughParams h = p.hough;
   h.window_events = scaled(h.window_events, s);
   h.vote_threshold = scaled(h.vote_threshold, s);
-  h.neighbour_filter_events = scaled(h.neighbour_filter_events, s);
+  // The filter's horizon scales with the pixel count: what lets a noise event through is the
+  // chance that two of its neighbours fired within the horizon, about the horizon's events per
+  // pixel squared, kept at the 128x128 sensor's (with sqrt(pixels) scaling a 640x480 sensor's
+  // horizon held 4.3x fewer events per pixel, shorter than the time a slow edge takes to cross
+  // neighbouring pixels, and the filter rejected the edges too).
+  h.neighbour_filter_events = scaled(h.neighbour_filter_events, s * s);
   h.max_gap_px *= s;
   h.evidence_events = static_cast<int>(std::lround(h.window_events * p.init_evidence_windows));
   return h;

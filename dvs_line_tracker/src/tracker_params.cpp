@@ -40,7 +40,8 @@ dvs_driver::ParamTable trackerParamTable(LineTrackerParams& p, std::string& solv
         "'shortly before': among this many latest events");
   t.add("init_neighbour_filter_min", p.hough.neighbour_filter_min, "pixels", 1, 8, "neighbours that must have fired");
   t.add("init_scale_with_sensor", p.init_scale_with_sensor,
-        "event counts and gaps of the initialisation are for 128x128; scaled by sqrt(pixels)/128 on larger sensors");
+        "event counts and gaps of the initialisation are for 128x128; scaled by sqrt(pixels)/128 on larger sensors "
+        "(the neighbour filter's horizon by pixels/128^2)");
   t.add("init_evidence_windows", p.init_evidence_windows, "", 1, 100,
         "side coverage is validated on this many Hough windows of the latest voted events");
   t.add("reacquire_prior", p.reacquire_prior_s, "s", 0, 3600,
@@ -94,6 +95,8 @@ dvs_driver::ParamTable trackerParamTable(LineTrackerParams& p, std::string& solv
   t.add("min_visible_length_px", p.min_visible_length_px, "px", 0, kInf, "a segment is visible with this much inside the image");
   positive("max_mean_residual_px", p.max_mean_residual_px, "px", kInf, "mean residual above this: lost");
   t.add("min_attributed_ratio", p.min_attributed_ratio, "", 0, 1, "attributed / all events below this: lost");
+  t.add("min_unattributed_structure", p.min_unattributed_structure, "", 0, 1,
+        "... and at least this share of the rest next to each other (structure, not noise): lost");
   positive("min_depth", p.min_depth_m, "m", kInf, "map points closer (or behind): lost");
   t.add("max_time_backwards", p.max_time_backwards_s, "s", 0, kInf,
         "event time going back by more than this (a replayed bag) restarts the tracker");

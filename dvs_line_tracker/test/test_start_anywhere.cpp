@@ -16,11 +16,14 @@ namespace
 /// Scene `index` of the sweep (benchmark_init_sweep --scene index shows the same row).
 SweepSceneSpec sweepScene(int index) { return sweepSceneSpecs(index + 1)[index]; }
 
+/// `result` (optional) receives the run's figures.
 void expectStartsAndTracks(const SweepSceneSpec& sp, double max_delay_s = 0.3, double min_tracked = 0.97,
-                           double max_rms_ratio = 0.01)
+                           double max_rms_ratio = 0.01, SweepResult* result = nullptr)
 {
   const SweepScene scene = buildSweepScene(sp);
   const SweepResult r = runSweepScene(scene);
+  if (result)
+    *result = r;
   SCOPED_TRACE(sensorLabel(sp) + ", " + lensLabel(sp) + ", " + motionLabel(sp.motion) + ", " + mapLabel(sp.map) + ", " +
                noiseLabel(sp.noise) + (sp.partial ? ", partial" : "") + ", distance " + std::to_string(scene.distance));
   ASSERT_GE(r.edges_fire_s, 0.0) << "the scene's edges never fire: not a useful scene";
@@ -83,6 +86,23 @@ TEST(StartAnywhere, SlowPairWithWeakSides) { expectStartsAndTracks(sweepScene(12
 // three agreeing weak detections start (no pose at all before). The flip at range tracks at
 // 1.6 % of the distance (the accuracy issue's class).
 TEST(StartAnywhere, WeakPairBeforeAFlip) { expectStartsAndTracks(sweepScene(41), 0.3, 0.97, 0.03); }
+
+// A grey square (contrast 3) at 3.1 m on a 640x480 sensor, slow: a slow edge's neighbouring
+// pixels fire 10-30 ms apart, longer than the Hough's background-activity filter looked back
+// while its horizon scaled with sqrt(pixels) (the first pose came 1.2 s late and 5-10 % off);
+// the horizon now holds the 128x128 sensor's events per pixel.
+TEST(StartAnywhere, GreySquareSlowOnVga) { expectStartsAndTracks(sweepScene(39), 0.3, 0.97, 0.015); }
+
+// Slow on a 640x480 sensor with realistic noise (61,000 noise events/s): where the roll sway
+// turns, the edges stop firing and the attribution falls to chance; the events left are noise
+// (2-3 % of them next to each other, against 40-90 % for a scene the pose does not explain),
+// so the track is kept (it was lost there, 80.8 % tracked, though 0.7 % of the distance off).
+TEST(StartAnywhere, KeepsTheTrackWhenTheCameraPauses)
+{
+  SweepResult r;
+  expectStartsAndTracks(sweepScene(15), 0.3, 0.99, 0.01, &r);
+  EXPECT_EQ(r.losses, 0) << r.last_loss_reason;
+}
 
 // A 0.4 s blackout of every event in the middle of a hand-held motion (the camera moves about
 // 0.16 m and turns meanwhile): the stale pose is dropped and a correct pose (5 % / 3 deg) is

@@ -9,6 +9,8 @@
 
 #include <gtest/gtest.h>
 
+#include <random>
+
 #include <fstream>
 #include <limits>
 #include <sstream>
@@ -168,6 +170,23 @@ TEST(EventUpdater, SolvesEveryEventBelowTheSolveRateAndAtTheRateAbove)
   EXPECT_EQ(updater.solves() - unlimited, 1000u);
 }
 
+namespace
+{
+// Counts `n` events in `monitor`, the first `attributed` of them attributed; the others along two
+// rows of pixels (an edge: next to each other) or at random pixels of the sensor (noise).
+void countEvents(LossMonitor& monitor, int n, int attributed, bool structure, int width = 128, int height = 128,
+                 unsigned seed = 1)
+{
+  std::mt19937 rng(seed);
+  for (int i = 0; i < n; ++i)
+  {
+    const int x = structure ? (i / 2) % width : static_cast<int>(rng() % static_cast<unsigned>(width));
+    const int y = structure ? 7 + i % 2 : static_cast<int>(rng() % static_cast<unsigned>(height));
+    monitor.countEvent(i < attributed, x, y);
+  }
+}
+}  // namespace
+
 TEST(LossMonitor, NamesWhyTheTrackIsLost)
 {
   const TrackingGeometry g = dvs128Geometry();
@@ -175,17 +194,15 @@ TEST(LossMonitor, NamesWhyTheTrackIsLost)
   EstimatorState state;
   state.resize(g.map.segments.size(), params.buffer_size);
   EventUpdater updater(g, params);
-  LossMonitor monitor(params);
+  LossMonitor monitor(params, 0, 0, 500);  // no sensor size: the fixed ratio only
   updater.start(state, kFront);
-  for (int i = 0; i < params.quality_check_interval; ++i)
-    monitor.countEvent(true);
+  countEvents(monitor, params.quality_check_interval, params.quality_check_interval, true);
   EXPECT_TRUE(monitor.due());
   EXPECT_EQ(monitor.check(state), "");
   EXPECT_FALSE(monitor.due());
 
   // Attribution collapsed: 1 of 512 events attributed.
-  for (int i = 0; i < params.quality_check_interval; ++i)
-    monitor.countEvent(i == 0);
+  countEvents(monitor, params.quality_check_interval, 1, true);
   EXPECT_NE(monitor.check(state).find("attribution collapsed"), std::string::npos);
 
   // The square far outside the view.
@@ -207,17 +224,42 @@ TEST(LossMonitor, AttributionIsComparedWithChanceOnLargeNoisySensors)
   state.resize(g.map.segments.size(), params.buffer_size);
   EventUpdater updater(g, params);
   updater.start(state, kFront);
-  LossMonitor large(params, 640.0 * 480.0), small(params, 128.0 * 128.0);
-  for (int i = 0; i < params.quality_check_interval; ++i)
-  {
-    large.countEvent(i < 8);
-    small.countEvent(i < 8);
-  }
+  LossMonitor large(params, 640, 480, 9375), small(params, 128, 128, 500);
+  countEvents(large, params.quality_check_interval, 8, true, 640, 480);
+  countEvents(small, params.quality_check_interval, 8, true);
   EXPECT_EQ(large.check(state), "");
   EXPECT_NE(small.check(state).find("attribution collapsed"), std::string::npos);
-  for (int i = 0; i < params.quality_check_interval; ++i)
-    large.countEvent(i == 0);
+  countEvents(large, params.quality_check_interval, 1, true, 640, 480);
   EXPECT_NE(large.check(state).find("attribution collapsed"), std::string::npos);
+}
+
+TEST(LossMonitor, NoiseAloneSaysNothingAgainstThePose)
+{
+  // At chance level (1 of 512 attributed) the track is lost when the other events are an edge
+  // the map does not explain, not when they are background noise (the camera paused); with
+  // min_unattributed_structure 0 every collapse is a loss (the test off).
+  const TrackingGeometry g = dvs128Geometry();
+  LineTrackerParams params;
+  EstimatorState state;
+  state.resize(g.map.segments.size(), params.buffer_size);
+  EventUpdater updater(g, params);
+  updater.start(state, kFront);
+  LossMonitor monitor(params, 640, 480, 9375);
+  // Noise: warm the activity up with a few intervals' worth, then count one interval.
+  for (unsigned seed = 1; seed <= 40; ++seed)
+  {
+    countEvents(monitor, params.quality_check_interval, 1, false, 640, 480, seed);
+    EXPECT_EQ(monitor.check(state), "") << "interval " << seed;
+  }
+  countEvents(monitor, params.quality_check_interval, 1, true, 640, 480);
+  const std::string reason = monitor.check(state);
+  EXPECT_NE(reason.find("attribution collapsed"), std::string::npos) << reason;
+  EXPECT_NE(reason.find("next to each other"), std::string::npos) << reason;
+
+  params.min_unattributed_structure = 0;
+  LossMonitor any(params, 640, 480, 9375);
+  countEvents(any, params.quality_check_interval, 1, false, 640, 480);
+  EXPECT_NE(any.check(state).find("attribution collapsed"), std::string::npos);
 }
 
 namespace

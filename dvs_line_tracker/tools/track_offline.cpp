@@ -6,6 +6,7 @@
 #include <dvs_calibration/camera_model.h>
 #include <dvs_driver/aedat_reader.h>
 #include <dvs_driver/checked_write.h>
+#include <dvs_driver/command_line.h>
 #include <dvs_driver/recording.h>
 #include <dvs_driver/event_validation.h>
 #include <dvs_driver/event_bag_io.h>
@@ -370,13 +371,14 @@ int main(int argc, char** argv)
                 << " sensor and were not used (wrong --width/--height or calibration?)\n";
     std::printf(
         "{\"events_read\": %zu, \"events_attributed\": %llu, \"pose_updates\": %llu, \"initializations\": %llu, "
-        "\"reinitializations\": %llu, \"losses\": %llu, \"events_outside_sensor\": %llu, \"final_state\": \"%s\", "
+        "\"reinitializations\": %llu, \"losses\": %llu, \"last_loss_reason\": %s, \"events_outside_sensor\": %llu, "
+        "\"final_state\": \"%s\", "
         "\"processing_seconds\": %.6f, \"input\": {%s}, "
         "\"events_per_second\": %.0f, \"initializer\": %s, \"gaps_bridged\": %llu, \"imu\": %s}\n",
         stream.events.size(), static_cast<unsigned long long>(st.events_attributed),
         static_cast<unsigned long long>(st.pose_updates), static_cast<unsigned long long>(st.initializations),
         static_cast<unsigned long long>(st.reinitializations), static_cast<unsigned long long>(st.losses),
-        static_cast<unsigned long long>(st.events_outside_sensor), toString(tracker.state()), seconds,
+        dvs_driver::jsonString(tracker.lastLossReason()).c_str(), static_cast<unsigned long long>(st.events_outside_sensor), toString(tracker.state()), seconds,
         input_checks.json().c_str(), seconds > 0 ? stream.events.size() / seconds : 0.0,
         tracker.initializerStats().json().c_str(), static_cast<unsigned long long>(st.gaps_bridged),
         propagator ? imuJson(*propagator).c_str() : "null");

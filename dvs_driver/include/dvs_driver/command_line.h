@@ -32,4 +32,8 @@ public:
 /// UsageError naming the option: unknown, missing value, not a number, out of range (with the
 /// limits), a repeated option.
 bool parseCommandLine(ParamTable& table, int argc, const char* const* argv, std::vector<std::string>* given = nullptr);
+
+/// `s` as a JSON string literal for a tool's summary line: quotes and backslashes escaped,
+/// control characters dropped.
+std::string jsonString(const std::string& s);
 }  // namespace dvs_driver

@@ -100,20 +100,6 @@ void usage(std::ostream& os)
         "input checks (outside_sensor, backwards, max_backwards_s, clamped, duplicates).\n";
 }
 
-std::string jsonString(const std::string& s)
-{
-  std::string o = "\"";
-  for (char c : s)
-  {
-    if (c == '"' || c == '\\')
-      o += '\\';
-    if (static_cast<unsigned char>(c) < 0x20)
-      continue;
-    o += c;
-  }
-  return o + "\"";
-}
-
 std::string num(unsigned long long v)
 {
   return std::to_string(v);
@@ -343,8 +329,8 @@ int main(int argc, char** argv)
     std::snprintf(buf, sizeof(buf),
                   "{\"format\":%s,\"events\":%zu,\"span_s\":%.6f,\"width\":%u,\"height\":%u,\"sensor\":%s,\"skipped_words\":%llu,"
                   "\"truncated_bytes\":%zu,\"packets\":%zu,\"time_offset_ns\":%lld,",
-                  jsonString(recording.format).c_str(), s.events.size(), span, s.width, s.height,
-                  jsonString(in.sensor_name).c_str(),
+                  dvs_driver::jsonString(recording.format).c_str(), s.events.size(), span, s.width, s.height,
+                  dvs_driver::jsonString(in.sensor_name).c_str(),
                   static_cast<unsigned long long>(in.skipped), in.truncated_bytes, packets,
                   static_cast<long long>(offset_ns));
     std::cout << buf << "\"records\":" << a.records << ",\"skipped\":{\"sync\":" << a.sync_events

@@ -10,6 +10,7 @@
 // the initialiser falls back on when the progressive segments give no pose: under background
 // noise a noise event explained by a wrong segment no longer votes for the side; BENCHMARKS.md).
 #include <dvs_line_tracker/line_point_index.h>
+#include <dvs_line_tracker/neighbour_activity.h>
 
 #include <Eigen/Core>
 
@@ -119,8 +120,7 @@ private:
   int window_head_ = 0, window_count_ = 0;
   std::vector<Eigen::Vector2f> evidence_;  // ring buffer of the latest voted positions
   int evidence_head_ = 0, evidence_count_ = 0;
-  std::vector<int64_t> last_event_index_;  // per sensor pixel, for the neighbour filter
-  int64_t event_index_ = 0;
+  NeighbourActivity activity_;  // the neighbour filter
   // detectSegments' scratch memory, reused between detections: the index of the window's
   // points, the votes not explained by a found segment yet, which points are explained.
   mutable LinePointIndex index_{1, 1.0, 1.0, Eigen::Vector2d::Zero()};

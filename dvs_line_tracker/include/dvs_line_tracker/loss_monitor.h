@@ -2,14 +2,19 @@
 // Tracking-quality monitoring: every `quality_check_interval` events while tracking, the
 // estimate is checked (finite, the map in front of the camera, enough visible segments, small
 // residuals, attribution not collapsed); the first failed check is the reason the track is lost.
-// Attribution has collapsed when fewer than `min_attributed_ratio` of the events were attributed
-// and no more than 1.5x what chance gives: background events land in the attribution bands of the
+// Attribution has collapsed when fewer than `min_attributed_ratio` of the events were attributed,
+// no more than 1.5x what chance gives (background events land in the attribution bands of the
 // visible segments in proportion to the bands' share of the image, so on a large, noisy sensor
-// in slow motion a good track attributes few events, yet more than chance.
+// in slow motion a good track attributes few events, yet more than chance), and the events not
+// attributed are structure rather than noise (at least `min_unattributed_structure` of them next
+// to two others: when the camera pauses, its edges stop firing and only noise is left, which
+// says nothing against the pose; a wrong pose leaves the real edges' events unattributed).
 #include <dvs_line_tracker/estimator_state.h>
+#include <dvs_line_tracker/neighbour_activity.h>
 #include <dvs_line_tracker/tracker_params.h>
 
 #include <cstdint>
+#include <memory>
 #include <string>
 
 namespace dvs_line_tracker
@@ -20,17 +25,20 @@ double meanResidualPx(const EstimatorState& state);
 class LossMonitor
 {
 public:
-  /// `image_area_px`: width x height (0: unknown, the attribution check is the fixed ratio only).
-  explicit LossMonitor(const LineTrackerParams& params, double image_area_px = 0)
-    : params_(params), image_area_px_(image_area_px)
-  {
-  }
+  /// The sensor's size and the horizon of the neighbour test (neighbour_activity.h) that tells
+  /// structure from noise among the events not attributed: the Hough filter's horizon (its
+  /// events per pixel on the sensor). A size of 0 x 0: no chance level and no noise test (the
+  /// attribution check is the fixed ratio only).
+  LossMonitor(const LineTrackerParams& params, int width, int height, int horizon_events);
 
-  /// Count one event processed while tracking.
-  void countEvent(bool attributed)
+  /// Count one event at pixel (x, y) processed while tracking.
+  void countEvent(bool attributed, int x, int y)
   {
     ++events_;
-    attributed_ += attributed ? 1 : 0;
+    if (attributed)
+      ++attributed_;
+    else if (!activity_ || activity_->add(x, y))
+      ++structured_;
   }
   /// A check is due (every quality_check_interval events).
   bool due() const { return events_ >= static_cast<uint64_t>(params_.quality_check_interval); }
@@ -38,11 +46,12 @@ public:
   /// state's visibility refreshed (EventUpdater::refresh).
   std::string check(const EstimatorState& state);
   /// A new interval (tracking starts).
-  void reset() { events_ = attributed_ = 0; }
+  void reset() { events_ = attributed_ = structured_ = 0; }
 
 private:
   const LineTrackerParams& params_;
   double image_area_px_;
-  uint64_t events_ = 0, attributed_ = 0;
+  std::unique_ptr<NeighbourActivity> activity_;  ///< over the unattributed events only
+  uint64_t events_ = 0, attributed_ = 0, structured_ = 0;
 };
 }  // namespace dvs_line_tracker

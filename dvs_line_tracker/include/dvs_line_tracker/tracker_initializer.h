@@ -73,6 +73,8 @@ public:
   /// The image polygon of the last accepted detection (ideal pixels).
   const ImagePolygon& lastPolygon() const { return last_polygon_; }
   const InitializerStats& stats() const { return stats_; }
+  /// The Hough detector's parameters, scaled to the sensor (init_scale_with_sensor).
+  const HoughParams& houghParams() const { return hough_.params(); }
 
 private:
   bool tryInitialize(const StartTracking& start);

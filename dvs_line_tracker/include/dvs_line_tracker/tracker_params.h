@@ -54,7 +54,8 @@ struct LineTrackerParams
   double max_solve_rate = 200000;
   /// The initialisation's event counts and pixel gaps (Hough window and threshold, segment gap,
   /// detection interval, refinement events) are given for a 128x128 sensor and scaled by
-  /// sqrt(width * height) / 128 on larger sensors (their edges are longer and fire more events).
+  /// sqrt(width * height) / 128 on larger sensors (their edges are longer and fire more events);
+  /// the neighbour filter's horizon by width * height / 128^2 (the same events per pixel).
   bool init_scale_with_sensor = true;
   /// Validation (side coverage) uses this many Hough windows of the latest voted events: slow
   /// edges draw themselves over a longer time than a window holds.
@@ -88,6 +89,10 @@ struct LineTrackerParams
   double min_visible_length_px = 12.0;
   double max_mean_residual_px = 1.5; ///< mean |point-to-line| distance over the buffers above this -> lost
   double min_attributed_ratio = 0.02;///< attributed / all events in a check interval below this -> lost
+  /// ... and no more than 1.5x chance, and at least this share of the events not attributed
+  /// are structure: next to two others of them (neighbour_activity.h; pure noise gives ~2.2 %,
+  /// the edges of a scene the pose does not explain 40-90 %).
+  double min_unattributed_structure = 0.1;
   double min_depth_m = 0.05;         ///< map points closer (or behind) -> lost
   /// Event time going back by more than this (a bag replayed into a running tracker) restarts
   /// the tracker (everything time-dependent is forgotten) and says so.

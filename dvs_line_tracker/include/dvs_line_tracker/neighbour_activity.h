@@ -1,0 +1,50 @@
+#pragma once
+// Which events are supported by their neighbours: an event counts as supported when at least
+// `min_neighbours` of its 8 neighbouring pixels had an event among the latest `horizon_events`
+// events counted. The horizon is in events, not time, so on a sensor firing only background
+// activity a pixel's neighbours hold horizon_events / pixels events each on average and the
+// supported share of pure noise is fixed whatever the noise rate (binomial: each neighbour fired
+// with probability 1 - exp(-horizon / pixels); 2.2 % for two neighbours at the default 500 events
+// per 128x128 pixels); an edge's events fire next to each other and are mostly supported. The background-activity filter of the
+// Hough initialisation (hough_line_detector.h) and the loss monitor's test of whether
+// unattributed events are structure or noise (loss_monitor.h) both use it.
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace dvs_line_tracker
+{
+class NeighbourActivity
+{
+public:
+  /// Throws std::invalid_argument for a non-positive size, horizon or neighbour count.
+  NeighbourActivity(int width, int height, int horizon_events, int min_neighbours);
+
+  /// Counts an event at pixel (x, y) (ignored, false, outside the sensor); true when it is
+  /// supported (judged before it counts itself).
+  bool add(int x, int y)
+  {
+    if (x < 0 || y < 0 || x >= width_ || y >= height_)
+      return false;
+    ++index_;
+    const int64_t horizon = index_ - horizon_;
+    const int64_t* row = last_.data() + static_cast<std::size_t>(y + 1) * stride_ + (x + 1);
+    int support = 0;
+    for (const int64_t* r : {row - stride_, row, row + stride_})
+      support += (r[-1] >= horizon) + (r[1] >= horizon) + (r != row && r[0] >= horizon);
+    last_[static_cast<std::size_t>(y + 1) * stride_ + (x + 1)] = index_;
+    return support >= min_neighbours_;
+  }
+  /// Forgets every event.
+  void reset();
+
+  int horizonEvents() const { return static_cast<int>(horizon_); }
+
+private:
+  int width_, height_, stride_;
+  int64_t horizon_;
+  int min_neighbours_;
+  int64_t index_ = 0;
+  std::vector<int64_t> last_;  ///< per pixel, with a border of one that never fires
+};
+}  // namespace dvs_line_tracker
