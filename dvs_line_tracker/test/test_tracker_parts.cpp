@@ -185,17 +185,25 @@ void countEvents(LossMonitor& monitor, int n, int attributed, bool structure, in
     monitor.countEvent(i < attributed, x, y);
   }
 }
-}  // namespace
-
-TEST(LossMonitor, NamesWhyTheTrackIsLost)
+// The DVS128 square tracked from kFront, for the loss monitor's checks.
+class LossMonitorTest : public ::testing::Test
 {
+protected:
+  void SetUp() override
+  {
+    state.resize(g.map.segments.size(), params.buffer_size);
+    updater.start(state, kFront);
+  }
   const TrackingGeometry g = dvs128Geometry();
   LineTrackerParams params;
   EstimatorState state;
-  state.resize(g.map.segments.size(), params.buffer_size);
-  EventUpdater updater(g, params);
+  EventUpdater updater{g, params};
+};
+}  // namespace
+
+TEST_F(LossMonitorTest, NamesWhyTheTrackIsLost)
+{
   LossMonitor monitor(params, 0, 0, 500);  // no sensor size: the fixed ratio only
-  updater.start(state, kFront);
   countEvents(monitor, params.quality_check_interval, params.quality_check_interval, true);
   EXPECT_TRUE(monitor.due());
   EXPECT_EQ(monitor.check(state), "");
@@ -213,17 +221,11 @@ TEST(LossMonitor, NamesWhyTheTrackIsLost)
   EXPECT_EQ(monitor.check(state), "the pose is not finite");
 }
 
-TEST(LossMonitor, AttributionIsComparedWithChanceOnLargeNoisySensors)
+TEST_F(LossMonitorTest, AttributionIsComparedWithChanceOnLargeNoisySensors)
 {
   // The same square and pose, counted against a 640x480 image: its attribution bands cover a
   // few per mille of the image, so 8 of 512 events (1.6 %, under min_attributed_ratio) are
   // still several times chance, while 1 of 512 is not.
-  const TrackingGeometry g = dvs128Geometry();
-  LineTrackerParams params;
-  EstimatorState state;
-  state.resize(g.map.segments.size(), params.buffer_size);
-  EventUpdater updater(g, params);
-  updater.start(state, kFront);
   LossMonitor large(params, 640, 480, 9375), small(params, 128, 128, 500);
   countEvents(large, params.quality_check_interval, 8, true, 640, 480);
   countEvents(small, params.quality_check_interval, 8, true);
@@ -233,17 +235,11 @@ TEST(LossMonitor, AttributionIsComparedWithChanceOnLargeNoisySensors)
   EXPECT_NE(large.check(state).find("attribution collapsed"), std::string::npos);
 }
 
-TEST(LossMonitor, NoiseAloneSaysNothingAgainstThePose)
+TEST_F(LossMonitorTest, NoiseAloneSaysNothingAgainstThePose)
 {
   // At chance level (1 of 512 attributed) the track is lost when the other events are an edge
   // the map does not explain, not when they are background noise (the camera paused); with
   // min_unattributed_structure 0 every collapse is a loss (the test off).
-  const TrackingGeometry g = dvs128Geometry();
-  LineTrackerParams params;
-  EstimatorState state;
-  state.resize(g.map.segments.size(), params.buffer_size);
-  EventUpdater updater(g, params);
-  updater.start(state, kFront);
   LossMonitor monitor(params, 640, 480, 9375);
   // Noise: warm the activity up with a few intervals' worth, then count one interval.
   for (unsigned seed = 1; seed <= 40; ++seed)
