@@ -147,7 +147,7 @@ int main(int argc, char** argv)
       std::snprintf(delay, sizeof delay, "%.3f", r.first_pose_delay_s);
     std::printf("| %d | %s | %s | %.2f m (%.0f %%) | %s | %s | %s | %s | %llu | %.3f | %s | %s | %d / %d | %.1f %% | "
                 "%.2f / %.2f | %.2f %% | %.1f / %.1f |\n",
-                i, sensorLabel(sp).c_str(), lensLabel(sp).c_str(), s.distance, 100 * sp.coverage, motionLabel(sp.motion),
+                i, sensorLabel(sp).c_str(), lensLabel(sp).c_str(), s.distance, 100 * s.coverage, motionLabel(sp.motion),
                 mapLabel(sp.map), noiseLabel(sp.noise), sp.partial ? "yes" : "no",
                 static_cast<unsigned long long>(r.events), r.edges_fire_s, delay, r.first_pose_correct ? "yes" : "NO",
                 r.initializations, r.false_initializations, 100 * r.tracked_fraction, 100 * r.rms_position_m,

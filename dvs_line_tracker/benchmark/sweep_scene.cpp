@@ -157,6 +157,7 @@ SweepScene buildSweepScene(const SweepSceneSpec& spec)
   distance = clamped;
   s.distance = distance;
   s.polygon_side = side;
+  s.coverage = side / (distance * 2 * half_h);
 
   const bool low_contrast = spec.noise == SweepNoise::kLowContrast;
   const double dark = low_contrast ? 0.3 : 0.1;

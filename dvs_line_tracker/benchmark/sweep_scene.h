@@ -62,6 +62,7 @@ struct SweepScene
   double duration = 1.5;  ///< [s]
   double distance = 1;    ///< camera to target at the start [m]
   double polygon_side = 0.9;  ///< [m]
+  double coverage = 0.5;      ///< polygon side / image height at the start (below the spec's for two polygons that must fit side by side)
   Eigen::Vector3d target{0, 0, 0};  ///< the map's centre (world)
 };
 
