@@ -347,11 +347,13 @@ TrackerInitializer::Outcome TrackerInitializer::tryPolygon(const ImagePolygon& p
     ++stats_.ambiguous;
     return Outcome::kNext;
   }
-  // An open polygon is matched from fewer sides: its pose must also explain most of the
-  // recent events (a square's three sides taken for the other square of a pair validated
-  // its visible sides and left the real square's events unexplained: 0.28-0.34 of them
-  // explained in the sweep's false initialisations, 0.6-1.0 in its correct ones).
-  if (polygon.open && explainedFraction(init.pose, recent) < kOpenMinExplained)
+  // An open polygon is matched from fewer sides, and with several map polygons a whole one can
+  // be taken for another: the pose must also explain most of the recent events (a square's
+  // three sides taken for the other square of a pair validated its visible sides and left the
+  // real square's events unexplained: 0.28-0.34 of them explained in the sweep's false
+  // initialisations, 0.6-1.0 in its correct ones; a whole square of a pair taken for the other,
+  // which put the other beyond the image where no side needed covering, was the same).
+  if ((polygon.open || geometry_.map.polygons.size() > 1) && explainedFraction(init.pose, recent) < kOpenMinExplained)
   {
     ++stats_.unexplained;
     return Outcome::kNext;

@@ -5,8 +5,9 @@
 // Hough on the same window), filtered (not along the image border), assembled into image
 // polygons with the map's side counts (corners may lie outside the image: partial views; then
 // from segments split at junctions; then, when none started tracking, polygons with one side
-// out of view, whose poses must also explain most of the window's events, and last such
-// polygons with one inner side bridged between the inner ends of its neighbours), and
+// out of view, and last such polygons with one inner side bridged between the inner ends of
+// its neighbours; poses of those, and every pose with a map of several polygons, must also
+// explain most of the window's events), and
 // each polygon's corners give one pose hypothesis per map polygon of that side count
 // (pose_initializer.h), refined on the window's events near the projected map
 // (point-to-line), validated (every visible map side covered by recent voted events, a quiet
@@ -37,7 +38,7 @@ struct InitializerStats
   uint64_t cut_by_border = 0;         ///< polygons with a corner at or beyond the image border (partial views; still tried)
   uint64_t pose_failed = 0;           ///< polygons whose corners gave no consistent pose
   uint64_t coverage_failed = 0;       ///< poses whose projected map was not backed by window events
-  uint64_t unexplained = 0;           ///< open polygons (one side out of view) whose pose left most recent events unexplained
+  uint64_t unexplained = 0;           ///< poses of open polygons (one side out of view) or of maps of several polygons that left most recent events unexplained
   uint64_t ambiguous = 0;             ///< two map polygons explained the events about equally well
   uint64_t unconfirmed = 0;           ///< valid detections waiting for an agreeing one
   uint64_t declined = 0;              ///< confirmed poses the tracker declined (too little map in view)
