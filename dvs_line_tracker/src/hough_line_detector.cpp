@@ -134,12 +134,11 @@ void HoughLineDetector::vote(float x, float y, int increment, std::vector<int>& 
 bool HoughLineDetector::addEvent(float x_ideal, float y_ideal, int sx, int sy, int64_t /*t_ns*/)
 {
   // Every event on the sensor counts towards the neighbours' activity; the filter needs its
-  // neighbours to have fired shortly before.
-  const bool supported = activity_.add(sx, sy);
-  const bool pass = !params_.neighbour_filter || supported || sx < 0 || sy < 0 || sx >= width_ || sy >= height_;
-  if (!pass)
-    return false;
+  // neighbours to have fired shortly before (events without a sensor pixel are not filtered).
   const bool on_sensor = sx >= 0 && sy >= 0 && sx < width_ && sy < height_;
+  const bool supported = activity_.add(sx, sy);
+  if (params_.neighbour_filter && on_sensor && !supported)
+    return false;
   const int32_t pixel = on_sensor ? sy * width_ + sx : -1;
   if (params_.unique_pixels && on_sensor && in_window_[pixel])
     return false;  // the pixel already votes

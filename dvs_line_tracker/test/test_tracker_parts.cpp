@@ -55,9 +55,11 @@ TEST(TrackerParams, TableNamesTheBadParameterAndItsBounds)
   EXPECT_EQ(validateParams(p), "");
   p.buffer_size = 1;
   p.hough.radius_bin_px = 1e-9;  // used to be a vector-too-large error deep inside the Hough space
+  p.min_unattributed_structure = 1.5;
   const std::string err = validateParams(p);
   EXPECT_NE(err.find("buffer_size must be in [2, 1024] events (got 1)"), std::string::npos) << err;
   EXPECT_NE(err.find("hough_radius_bin_px must be in [0.1, 100] px"), std::string::npos) << err;
+  EXPECT_NE(err.find("min_unattributed_structure must be in [0, 1]"), std::string::npos) << err;
   EXPECT_THROW(LineTracker(dvs_calibration::CameraModel::dvs128(), defaultSquareMap(), p), std::invalid_argument);
 }
 
@@ -72,10 +74,13 @@ TEST(TrackerParams, CrossParameterRules)
 TEST(TrackerParams, YamlUsesTheTableAndTheSolverName)
 {
   const std::string path = testing::TempDir() + "tracker_params_test.yaml";
-  std::ofstream(path) << "buffer_size: 12\nsolver: full\ndamping: 0.5\n";
+  std::ofstream(path) << "buffer_size: 12\nsolver: full\ndamping: 0.5\nhough_remove_found_votes: false\n"
+                          "init_full_hough_fallback: false\n";
   LineTrackerParams p;
   loadTrackerParamsYaml(path, p);
   EXPECT_EQ(p.buffer_size, 12);
+  EXPECT_FALSE(p.hough.remove_found_votes);
+  EXPECT_FALSE(p.init_full_hough_fallback);
   EXPECT_EQ(p.estimator.solver, SolverType::kFullGaussNewton);
   EXPECT_DOUBLE_EQ(p.estimator.damping, 0.5);
   std::ofstream(path) << "solver: fastest\n";

@@ -28,11 +28,11 @@ public:
       return false;
     ++index_;
     const int64_t horizon = index_ - horizon_;
-    const int64_t* row = last_.data() + static_cast<std::size_t>(y + 1) * stride_ + (x + 1);
+    int64_t* const cell = last_.data() + static_cast<std::size_t>(y + 1) * stride_ + (x + 1);
     int support = 0;
-    for (const int64_t* r : {row - stride_, row, row + stride_})
-      support += (r[-1] >= horizon) + (r[1] >= horizon) + (r != row && r[0] >= horizon);
-    last_[static_cast<std::size_t>(y + 1) * stride_ + (x + 1)] = index_;
+    for (const int64_t* r : {cell - stride_, cell, cell + stride_})
+      support += (r[-1] >= horizon) + (r[1] >= horizon) + (r != cell && r[0] >= horizon);
+    *cell = index_;
     return support >= min_neighbours_;
   }
   /// Forgets every event.
