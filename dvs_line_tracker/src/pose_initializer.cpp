@@ -317,6 +317,14 @@ bool estimateInitialPose(const std::vector<Eigen::Vector2d>& corners_ideal_px, c
 
   bool found = false;
   InitialPose best;
+  // Every assignment that fits, for the up-margin (a symmetric polygon fits several).
+  struct Fitting
+  {
+    Pose pose;
+    double up_score;
+    int polygon;
+  };
+  std::vector<Fitting> fitting;
   for (size_t pi = 0; pi < map.polygons.size(); ++pi)
   {
     const MapPolygon& poly = map.polygons[pi];
@@ -374,6 +382,7 @@ bool estimateInitialPose(const std::vector<Eigen::Vector2d>& corners_ideal_px, c
         double score = upScore(pose, k, world, map.up_world);
         if (poly.planar && n >= 3 && !viewedFromFront(poly, pose))
           score -= 10.0;
+        fitting.push_back({pose, score, static_cast<int>(pi)});
         const bool better = !found || score > best.up_score + 1e-6 ||
                             (std::abs(score - best.up_score) <= 1e-6 && rms < best.reprojection_rms_px);
         if (better)
@@ -389,8 +398,14 @@ bool estimateInitialPose(const std::vector<Eigen::Vector2d>& corners_ideal_px, c
   }
   if (!found)
     return false;
+  best.up_margin = std::numeric_limits<double>::infinity();
+  for (const Fitting& f : fitting)
+    if (f.polygon == best.polygon_index &&
+        (positionError(f.pose, best.pose) > 0.03 * best.pose.p_world_camera().norm() ||
+         orientationError(f.pose, best.pose) > 3.0 * M_PI / 180))
+      best.up_margin = std::min(best.up_margin, best.up_score - f.up_score);
   const MapPolygon& chosen = map.polygons[best.polygon_index];
-  if (chosen.planar && n >= 4)
+  if (chosen.planar && n >= 3)
   {
     std::vector<cv::Point3d> world_cv;
     for (int i = 0; i < n; ++i)
@@ -401,7 +416,10 @@ bool estimateInitialPose(const std::vector<Eigen::Vector2d>& corners_ideal_px, c
     std::vector<cv::Mat> rvecs, tvecs;
     try
     {
-      cv::solvePnPGeneric(world_cv, image_cv, K, cv::noArray(), rvecs, tvecs, false, cv::SOLVEPNP_IPPE);
+      if (n == 3)
+        cv::solveP3P(world_cv, image_cv, K, cv::noArray(), rvecs, tvecs, cv::SOLVEPNP_P3P);
+      else
+        cv::solvePnPGeneric(world_cv, image_cv, K, cv::noArray(), rvecs, tvecs, false, cv::SOLVEPNP_IPPE);
     }
     catch (const cv::Exception&)
     {

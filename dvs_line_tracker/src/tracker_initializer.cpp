@@ -342,7 +342,12 @@ TrackerInitializer::Outcome TrackerInitializer::tryPolygon(const ImagePolygon& p
     ++(any_pose ? stats_.coverage_failed : stats_.pose_failed);
     return Outcome::kNext;
   }
-  if (runner_up_px > kAmbiguityRatio * best.covered_px)
+  // A symmetric polygon fits its corners in several rotations (the square's four, 90 deg
+  // apart): the map's up picks one, and near the +-45 deg roll where two are equally upright
+  // (perspective tilting the projected up by a few degrees) the pick is a coin toss. Wait until
+  // the view turns out of that band (a re-initialisation mid-roll took the square rotated by
+  // 90 deg: 33 % / 88 deg off in a held-out sweep scene).
+  if (runner_up_px > kAmbiguityRatio * best.covered_px || init.up_margin < params_.init_min_up_margin)
   {
     ++stats_.ambiguous;
     return Outcome::kNext;

@@ -333,6 +333,57 @@ TEST(PoseInit, UpHintResolvesTheSquareSymmetry)
   EXPECT_LT(orientationError(init.pose, rolled), 1e-6);
 }
 
+TEST(PoseInit, UpMarginSaysHowClearlyTheUpHintPicksTheRotation)
+{
+  // Seen head-on, the square's rotations that fit score cos(roll) and cos(90 deg - roll): the
+  // margin between the two most upright is cos(roll) - sin(roll), vanishing at 45 deg.
+  const LineMap square = defaultSquareMap();
+  for (double roll_deg : {0.0, 20.0, 38.0, 44.0})
+  {
+    const double roll = roll_deg * M_PI / 180;
+    const Pose truth = lookAt({0, 0, 1.5}, {0, 0, 0}, {0, 1, 0}, roll);
+    InitialPose init;
+    ASSERT_TRUE(estimateInitialPose(projectCorners(square, truth), square, kK, PoseInitParams(), init)) << roll_deg;
+    EXPECT_LT(orientationError(init.pose, truth), 1e-6) << roll_deg;
+    EXPECT_NEAR(init.up_margin, std::cos(roll) - std::sin(roll), 0.01) << roll_deg;
+  }
+  // A rectangle fits its corners in one rotation only (and its 180 deg turn, which the up hint
+  // rejects with the full margin of 2): no near tie.
+  LineMap rect;
+  const Eigen::Vector3d c[4] = {{-0.6, -0.3, 0}, {0.6, -0.3, 0}, {0.6, 0.3, 0}, {-0.6, 0.3, 0}};
+  for (int i = 0; i < 4; ++i)
+    rect.segments.push_back({c[i], c[(i + 1) % 4]});
+  finalizeLineMap(rect, "rectangle");
+  const Pose tilted = lookAt({0, 0, 1.5}, {0, 0, 0}, {0, 1, 0}, 44 * M_PI / 180);
+  InitialPose init;
+  ASSERT_TRUE(estimateInitialPose(projectCorners(rect, tilted), rect, kK, PoseInitParams(), init));
+  EXPECT_LT(orientationError(init.pose, tilted), 1e-6);
+  EXPECT_GT(init.up_margin, 1.0);
+}
+
+TEST(PoseInit, TriangleGetsItsOtherP3PSolutionsAsAlternatives)
+{
+  // A triangle far away (weak perspective): the corners fit the true pose and a pose tilted
+  // the other way; the second must be offered for the evidence to decide between them.
+  LineMap tri;
+  const Eigen::Vector3d c[3] = {{-0.45, -0.39, 0}, {0.45, -0.39, 0}, {0, 0.39, 0}};
+  for (int i = 0; i < 3; ++i)
+    tri.segments.push_back({c[i], c[(i + 1) % 3]});
+  finalizeLineMap(tri, "triangle");
+  const Pose truth = lookAt({0.8, 0.5, 4.0}, {0, 0, 0}, {0, 1, 0}, 0.1);
+  InitialPose init;
+  ASSERT_TRUE(estimateInitialPose(projectCorners(tri, truth), tri, kK, PoseInitParams(), init));
+  std::vector<Pose> all{init.pose};
+  all.insert(all.end(), init.alternatives.begin(), init.alternatives.end());
+  ASSERT_GE(all.size(), 2u);
+  const auto hit = std::find_if(all.begin(), all.end(), [&](const Pose& p) {
+    return positionError(p, truth) < 1e-4 && orientationError(p, truth) < 1e-4;
+  });
+  EXPECT_NE(hit, all.end());
+  for (const Pose& p : all)
+    EXPECT_LT(cornerReprojectionRms(p, kK, projectCorners(tri, truth), tri.polygons[0].corners_world), 1e-3);
+}
+
 TEST(PoseInit, NoisyCornersGiveACloseRefinedPose)
 {
   const LineMap map = defaultSquareMap();

@@ -11,6 +11,7 @@
 #include <dvs_line_tracker/polygon_search.h>
 
 #include <Eigen/Core>
+#include <limits>
 #include <vector>
 
 namespace dvs_line_tracker
@@ -38,9 +39,13 @@ struct InitialPose
   Pose pose;
   double reprojection_rms_px = 0;  ///< after refinement
   double up_score = 0;             ///< cosine between projected map up and image up (-y)
+  /// up_score minus that of the best other assignment of the corners to the same polygon that
+  /// also fits (a symmetric polygon's rotations: the square's at 90 deg); infinite when none.
+  double up_margin = std::numeric_limits<double>::infinity();
   int polygon_index = -1;          ///< the map polygon used
   std::vector<int> corner_assignment;  ///< image corner k <-> map polygon corner corner_assignment[k]
-  /// The other solution of planar PnP for the same corners, when it also reprojects within the
+  /// The other solution of planar PnP for the same corners (IPPE's twin; for a triangle the
+  /// other P3P solutions), when it also reprojects within the
   /// limit and sees the polygon from the front: in a weak-perspective view (narrow lens, far
   /// away) a polygon tilted the other way projects to nearly the same corners. The caller tells
   /// the two apart with more evidence (the events along every map edge).

@@ -82,6 +82,10 @@ struct LineTrackerParams
   int init_confirmations = 1;          ///< a detection is accepted when this many of the last 4 detections agree with it
   double init_confirm_position_ratio = 0.1;   ///< agreement: position difference / distance
   double init_confirm_angle_deg = 8.0;        ///< agreement: orientation difference
+  /// A symmetric polygon's pose must be this much more upright (cosine between projected map up
+  /// and image up) than its other rotations that fit the corners: 0.2 waits while the roll is
+  /// within about 8 deg of the +-45 deg where the square's two rotations are equally upright.
+  double init_min_up_margin = 0.2;
   double init_max_inside_ratio = 0.3; ///< window events well inside the polygon / events on its sides, upper bound
   // Tracking-quality monitoring.
   int quality_check_interval = 512;  ///< events between quality checks while tracking
