@@ -276,10 +276,7 @@ bool estimateInitialPoseOpen(const ImagePolygon& open, const LineMap& map, const
       const Pose pose = refineOpen(start, k, open, world_known, world_first, world_last, rms);
       if (!(rms <= params.max_reprojection_rms_px) || !viewedFromFront(poly, pose) || !beyondEnds(pose))
         continue;
-      auto same = [&](const Pose& f) {
-        return positionError(f, pose) <= 0.01 * pose.p_world_camera().norm() &&
-               orientationError(f, pose) <= 1.0 * M_PI / 180;
-      };
+      auto same = [&](const Pose& f) { return posesAgree(f, pose, 0.01, 1.0); };
       if (have && (same(out.pose) || std::any_of(out.alternatives.begin(), out.alternatives.end(), same)))
         continue;
       if (!have)
@@ -398,11 +395,8 @@ bool estimateInitialPose(const std::vector<Eigen::Vector2d>& corners_ideal_px, c
   }
   if (!found)
     return false;
-  best.up_margin = std::numeric_limits<double>::infinity();
   for (const Fitting& f : fitting)
-    if (f.polygon == best.polygon_index &&
-        (positionError(f.pose, best.pose) > 0.03 * best.pose.p_world_camera().norm() ||
-         orientationError(f.pose, best.pose) > 3.0 * M_PI / 180))
+    if (f.polygon == best.polygon_index && !sameHypothesis(best.pose, f.pose))
       best.up_margin = std::min(best.up_margin, best.up_score - f.up_score);
   const MapPolygon& chosen = map.polygons[best.polygon_index];
   if (chosen.planar && n >= 3)
@@ -438,9 +432,7 @@ bool estimateInitialPose(const std::vector<Eigen::Vector2d>& corners_ideal_px, c
       cv::Matx33d Rcv;
       cv::Rodrigues(rv, Rcv);
       const Pose twin = poseFromCv(Rcv, tv.ptr<double>());
-      const bool distinct = positionError(twin, best.pose) > 0.01 * best.pose.p_world_camera().norm() ||
-                            orientationError(twin, best.pose) > 1.0 * M_PI / 180;
-      if (distinct && viewedFromFront(chosen, twin) &&
+      if (!posesAgree(twin, best.pose, 0.01, 1.0) && viewedFromFront(chosen, twin) &&
           cornerReprojectionRms(twin, k, corners_ideal_px, world) <= params.max_reprojection_rms_px)
         best.alternatives.push_back(twin);
     }

@@ -40,12 +40,6 @@ double sensorScale(const TrackingGeometry& g, const LineTrackerParams& p)
   return p.init_scale_with_sensor ? std::max(1.0, std::sqrt(static_cast<double>(g.width) * g.height) / 128.0) : 1.0;
 }
 
-/// Two hypotheses within a few percent of the distance and a few degrees are the same.
-bool samePose(const Pose& a, const Pose& b)
-{
-  return positionError(a, b) < 0.03 * a.p_world_camera().norm() && orientationError(a, b) < 3.0 * M_PI / 180;
-}
-
 int scaled(int count, double scale) { return std::max(1, static_cast<int>(std::lround(count * scale))); }
 
 HoughParams scaledHough(const TrackingGeometry& g, const LineTrackerParams& p)
@@ -183,8 +177,7 @@ bool TrackerInitializer::confirmed(const Pose& pose, int extra, bool strong)
   {
     // A pair with a weak detection must agree twice as closely.
     const double bound = earlier.strong && strong ? 1.0 : 0.5;
-    if (positionError(earlier.pose, pose) < bound * params_.init_confirm_position_ratio * pose.p_world_camera().norm() &&
-        orientationError(earlier.pose, pose) < bound * params_.init_confirm_angle_deg * M_PI / 180)
+    if (posesAgree(earlier.pose, pose, bound * params_.init_confirm_position_ratio, bound * params_.init_confirm_angle_deg))
     {
       ++agreeing;
       any_strong |= earlier.strong;
@@ -328,13 +321,13 @@ TrackerInitializer::Outcome TrackerInitializer::tryPolygon(const ImagePolygon& p
       continue;
     if (!have || c.covered_px > best.covered_px)
     {
-      if (have && !samePose(init.pose, candidate.pose))
+      if (have && !sameHypothesis(init.pose, candidate.pose))
         runner_up_px = std::max(runner_up_px, best.covered_px);
       have = true;
       init = candidate;
       best = c;
     }
-    else if (!samePose(init.pose, candidate.pose))
+    else if (!sameHypothesis(init.pose, candidate.pose))
       runner_up_px = std::max(runner_up_px, c.covered_px);
   }
   if (!have)

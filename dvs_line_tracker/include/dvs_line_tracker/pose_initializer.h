@@ -52,6 +52,10 @@ struct InitialPose
   std::vector<Pose> alternatives;
 };
 
+/// Two pose hypotheses within 3 % of the distance and 3 deg are the same (the initialiser's
+/// ambiguity tests: between map polygons, and between a symmetric polygon's rotations).
+inline bool sameHypothesis(const Pose& a, const Pose& b) { return posesAgree(b, a, 0.03, 3.0); }
+
 /// Corners' reprojection RMS (px) of `pose`.
 double cornerReprojectionRms(const Pose& pose, const PinholeK& k, const std::vector<Eigen::Vector2d>& image,
                              const std::vector<Eigen::Vector3d>& world);

@@ -3,6 +3,8 @@
 // stored as R_camera_world / t_camera_world); here the solver's fixed-size types beside it.
 #include <dvs_calibration/pose.h>
 
+#include <cmath>
+
 namespace dvs_line_tracker
 {
 using dvs_calibration::orientationError;
@@ -10,6 +12,14 @@ using dvs_calibration::Pose;
 using dvs_calibration::positionError;
 using dvs_calibration::Vector6d;
 using Matrix6d = Eigen::Matrix<double, 6, 6>;
+
+/// `pose` agrees with `reference`: its position within `position_ratio` of the reference's
+/// distance from the world origin, its orientation within `angle_deg`.
+inline bool posesAgree(const Pose& pose, const Pose& reference, double position_ratio, double angle_deg)
+{
+  return positionError(pose, reference) < position_ratio * reference.p_world_camera().norm() &&
+         orientationError(pose, reference) < angle_deg * M_PI / 180;
+}
 
 /// The cross-product matrix: skew(w) v = w x v.
 inline Eigen::Matrix3d skew(const Eigen::Vector3d& w)
