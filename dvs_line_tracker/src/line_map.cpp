@@ -3,6 +3,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -209,5 +210,53 @@ std::string lineMapToYaml(const LineMap& map)
     out << "]\n";
   }
   return out.str();
+}
+
+std::vector<Eigen::Isometry3d> lineMapSymmetries(const LineMap& map, double tolerance_m)
+{
+  std::vector<Eigen::Isometry3d> out;
+  if (map.segments.empty() || map.polygons.empty())
+    return out;
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  for (const auto& s : map.segments)
+    centroid += s.p0_world + s.p1_world;
+  centroid /= 2.0 * static_cast<double>(map.segments.size());
+  // The plane's normal (Newell's method on the first polygon), and every endpoint on it.
+  const auto& corners = map.polygons.front().corners_world;
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();
+  for (size_t i = 0; i < corners.size(); ++i)
+    normal += corners[i].cross(corners[(i + 1) % corners.size()]);
+  if (normal.norm() < 1e-12)
+    return out;
+  normal.normalize();
+  for (const auto& s : map.segments)
+    if (std::abs(normal.dot(s.p0_world - centroid)) > tolerance_m || std::abs(normal.dot(s.p1_world - centroid)) > tolerance_m)
+      return out;
+  auto near = [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b) { return (a - b).norm() <= tolerance_m; };
+  auto mapsOntoMap = [&](const Eigen::Isometry3d& S) {
+    for (const auto& s : map.segments)
+    {
+      const Eigen::Vector3d a = S * s.p0_world, b = S * s.p1_world;
+      if (std::none_of(map.segments.begin(), map.segments.end(), [&](const MapSegment& t) {
+            return (near(a, t.p0_world) && near(b, t.p1_world)) || (near(a, t.p1_world) && near(b, t.p0_world));
+          }))
+        return false;
+    }
+    return true;
+  };
+  // Candidate angles: the first segment turned onto each segment (either direction).
+  const Eigen::Vector3d d0 = map.segments.front().p1_world - map.segments.front().p0_world;
+  for (const auto& t : map.segments)
+    for (int reversed = 0; reversed < 2; ++reversed)
+    {
+      const Eigen::Vector3d d = reversed ? Eigen::Vector3d(t.p0_world - t.p1_world) : Eigen::Vector3d(t.p1_world - t.p0_world);
+      const double angle = std::atan2(normal.dot(d0.cross(d)), d0.dot(d));
+      if (std::abs(angle) < 1e-6)
+        continue;
+      const Eigen::Isometry3d S = Eigen::Translation3d(centroid) * Eigen::AngleAxisd(angle, normal) * Eigen::Translation3d(-centroid);
+      if (mapsOntoMap(S) && std::none_of(out.begin(), out.end(), [&](const Eigen::Isometry3d& q) { return q.isApprox(S, 1e-6); }))
+        out.push_back(S);
+    }
+  return out;
 }
 }  // namespace dvs_line_tracker

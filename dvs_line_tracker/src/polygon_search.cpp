@@ -84,10 +84,11 @@ public:
   {
     open_ = true;
     chain_length_ = n_ - 1;
-    width_ = width;
-    height_ = height;
-    border_px_ = border_px;
+    setView({width, height, border_px});
   }
+
+  /// Corners beyond the border of this image need not lie near the ends of sides that reach it.
+  void setView(const ImageView& view) { view_ = view; }
 
   /// The segments from index `first_bridge` on are bridges (bridgeBorderSegments): every
   /// polygon uses exactly one of them.
@@ -141,30 +142,48 @@ private:
   /// Side `a` is followed by side `b`: they turn the right way and their lines meet at a corner
   /// beyond the middle of both, within the allowed gap of `a`'s far end and of `b`'s near end
   /// (segments of slowly moving edges often stop short of the corner).
-  bool meets(const Oriented& a, const Oriented& b, Eigen::Vector2d* corner_out) const
+  bool meets(const Oriented& a, const Oriented& b, Eigen::Vector2d* corner_out, double* gap_out = nullptr) const
   {
     const double gap = p_.corner_proximity_ratio * (a.length() + b.length()) + 3.0;
-    if ((b.near_end - a.far_end).norm() > 2 * gap || !turnOk(a, b))
+    const bool a_hidden = view_.known() && atBorder(a.far_end), b_hidden = view_.known() && atBorder(b.near_end);
+    if ((!(a_hidden && b_hidden) && (b.near_end - a.far_end).norm() > 2 * gap) || !turnOk(a, b))
       return false;
     Eigen::Vector2d corner;
     if (!intersectLines({a.near_end, a.far_end, 0}, {b.near_end, b.far_end, 0}, corner))
       return false;
     if ((corner - a.near_end).dot(a.dir()) < 0.5 * a.length() || (b.far_end - corner).dot(b.dir()) < 0.5 * b.length())
       return false;
-    if ((corner - a.far_end).norm() > gap || (corner - b.near_end).norm() > gap)
+    // A corner beyond the image border: the part of a side between its end at the border and
+    // the corner is hidden, not missing evidence (a corner out of view at the start).
+    const double beyond = view_.known() ? outsideDistance(corner) : 0.0;
+    const bool out_of_view = beyond > view_.border_px && beyond <= std::max(view_.width, view_.height);
+    const double gap_a = out_of_view && a_hidden ? 0.0 : (corner - a.far_end).norm();
+    const double gap_b = out_of_view && b_hidden ? 0.0 : (corner - b.near_end).norm();
+    if (gap_a > gap || gap_b > gap)
       return false;
     if (corner_out)
       *corner_out = corner;
+    if (gap_out)
+      *gap_out = gap_a + gap_b;
     return true;
+  }
+
+  /// Distance of `p` outside the image box (0 inside).
+  double outsideDistance(const Eigen::Vector2d& p) const
+  {
+    const double dx = std::max({0.0, -p.x(), p.x() - (view_.width - 1)});
+    const double dy = std::max({0.0, -p.y(), p.y() - (view_.height - 1)});
+    return std::hypot(dx, dy);
   }
 
   /// The corner where side `a` meets side `b`, appended to `poly` with its gap.
   bool addCorner(const Oriented& a, const Oriented& b, ImagePolygon& poly) const
   {
     Eigen::Vector2d corner;
-    if (!meets(a, b, &corner))
+    double gap = 0;
+    if (!meets(a, b, &corner, &gap))
       return false;
-    poly.gap_px += (corner - a.far_end).norm() + (corner - b.near_end).norm();
+    poly.gap_px += gap;
     poly.corners.push_back(corner);
     return true;
   }
@@ -185,7 +204,10 @@ private:
     return true;
   }
 
-  bool atBorder(const Eigen::Vector2d& p) const { return atImageBorder(p, width_, height_, border_px_); }
+  bool atBorder(const Eigen::Vector2d& p) const
+  {
+    return atImageBorder(p, view_.width, view_.height, view_.border_px);
+  }
 
   bool opens(ImagePolygon& out) const
   {
@@ -256,8 +278,9 @@ private:
       {
         Oriented next{id, end == 0 ? s.p0 : s.p1, end == 0 ? s.p1 : s.p0};
         Eigen::Vector2d corner;
-        if (meets(cur, next, &corner))
-          next_sides.emplace_back((corner - cur.far_end).norm() + (corner - next.near_end).norm(), next);
+        double gap = 0;
+        if (meets(cur, next, &corner, &gap))
+          next_sides.emplace_back(gap, next);
       }
     }
     std::stable_sort(next_sides.begin(), next_sides.end(),
@@ -286,7 +309,7 @@ private:
   int chain_length_ = 0;
   bool open_ = false;
   int first_bridge_ = -1;
-  double width_ = 0, height_ = 0, border_px_ = 0;
+  ImageView view_;
   std::vector<ImagePolygon>* collect_ = nullptr;
   int max_ = 1;
 };
@@ -410,12 +433,14 @@ bool findPolygon(const std::vector<ImageSegment>& segments, int num_sides, const
 }
 
 std::vector<ImagePolygon> findPolygons(const std::vector<ImageSegment>& segments, int num_sides,
-                                       const PolygonSearchParams& params, int max_polygons, int search_polygons)
+                                       const PolygonSearchParams& params, int max_polygons, int search_polygons,
+                                       const ImageView& view)
 {
   std::vector<ImagePolygon> found;
   if (num_sides < 3 || static_cast<int>(segments.size()) < num_sides || max_polygons < 1)
     return found;
   Search search(segments, num_sides, params);
+  search.setView(view);
   search.runAll(found, std::max(max_polygons, search_polygons));
   std::stable_sort(found.begin(), found.end(),
                    [](const ImagePolygon& a, const ImagePolygon& b) { return a.gap_px < b.gap_px; });

@@ -131,6 +131,7 @@ bool viewedFromFront(const MapPolygon& poly, const Pose& pose)
   centroid /= static_cast<double>(n);
   return normal.dot(pose.p_world_camera() - centroid) >= 0;
 }
+}  // namespace
 
 double upScore(const Pose& pose, const PinholeK& k, const std::vector<Eigen::Vector3d>& world,
                const Eigen::Vector3d& up)
@@ -150,7 +151,6 @@ double upScore(const Pose& pose, const PinholeK& k, const std::vector<Eigen::Vec
     return 0;
   return -v.y() / v.norm();
 }
-}  // namespace
 
 double cornerReprojectionRms(const Pose& pose, const PinholeK& k, const std::vector<Eigen::Vector2d>& image,
                              const std::vector<Eigen::Vector3d>& world)
@@ -395,9 +395,15 @@ bool estimateInitialPose(const std::vector<Eigen::Vector2d>& corners_ideal_px, c
   }
   if (!found)
     return false;
+  std::stable_sort(fitting.begin(), fitting.end(), [](const Fitting& a, const Fitting& b) { return a.up_score > b.up_score; });
   for (const Fitting& f : fitting)
     if (f.polygon == best.polygon_index && !sameHypothesis(best.pose, f.pose))
+    {
       best.up_margin = std::min(best.up_margin, best.up_score - f.up_score);
+      if (viewedFromFront(map.polygons[f.polygon], f.pose) &&
+          std::none_of(best.rotations.begin(), best.rotations.end(), [&](const Pose& r) { return sameHypothesis(r, f.pose); }))
+        best.rotations.push_back(f.pose);
+    }
   const MapPolygon& chosen = map.polygons[best.polygon_index];
   if (chosen.planar && n >= 3)
   {

@@ -81,7 +81,13 @@ TrackerInitializer::TrackerInitializer(const TrackingGeometry& geometry, const L
   , check_interval_(scaled(params.init_check_interval, scale_))
   , min_events_(scaled(params.init_min_events, scale_))
   , refine_events_(params.init_refine_events > 0 ? scaled(params.init_refine_events, scale_) : 0)
+  , symmetries_(lineMapSymmetries(geometry.map))
 {
+  for (const auto& s : geometry.map.segments)
+  {
+    map_points_.push_back(s.p0_world);
+    map_points_.push_back(s.p1_world);
+  }
   for (const auto& poly : geometry.map.polygons)
     if (std::find(side_counts_.begin(), side_counts_.end(), static_cast<int>(poly.segment_ids.size())) ==
         side_counts_.end())
@@ -165,10 +171,12 @@ bool TrackerInitializer::alongBorder(const ImageSegment& sg) const
          near(sg.p0.y(), sg.p1.y(), h);
 }
 
-bool TrackerInitializer::confirmed(const Pose& pose, int extra, bool strong)
+bool TrackerInitializer::confirmed(const Pose& pose, int extra, bool strong, double* roll_rate_deg_s)
 {
   // Two detections in a row must agree (a false polygon from smeared or partial edges rarely
   // repeats itself consistently), and one of them must be strongly covered.
+  if (roll_rate_deg_s)
+    *roll_rate_deg_s = 0;
   if (params_.init_confirmations + extra <= 0)
     return strong;
   int agreeing = 0;
@@ -181,9 +189,12 @@ bool TrackerInitializer::confirmed(const Pose& pose, int extra, bool strong)
     {
       ++agreeing;
       any_strong |= earlier.strong;
+      if (roll_rate_deg_s && last_check_ns_ > earlier.t_ns)
+        *roll_rate_deg_s =
+            std::max(*roll_rate_deg_s, std::abs(rollRateDegS(earlier.pose, pose, (last_check_ns_ - earlier.t_ns) * 1e-9)));
     }
   }
-  recent_.push_back({pose, strong});
+  recent_.push_back({pose, strong, last_check_ns_});
   if (recent_.size() > 4)
     recent_.erase(recent_.begin());
   // Weak detections alone need one more agreeing detection (an edge moving along itself fires
@@ -218,14 +229,18 @@ TrackerInitializer::Outcome TrackerInitializer::trySegments(std::vector<ImageSeg
   stats_.segments += segments.size();
   // The polygons of the detected segments first, then those that need a segment split where
   // another one meets it (collinear sides of neighbouring polygons detected as one segment).
+  // Sides that reach the image border may meet beyond it (a corner out of view).
+  const double border = std::max(params_.init_border_margin_px,
+                                 kOpenBorderRatio * (std::max(geometry_.width, geometry_.height) - 1.0));
+  const ImageView view{static_cast<double>(geometry_.width), static_cast<double>(geometry_.height), border};
   std::vector<ImagePolygon> polygons;
   for (int sides : side_counts_)
-    for (ImagePolygon& polygon : findPolygons(segments, sides, params_.polygon, 8))
+    for (ImagePolygon& polygon : findPolygons(segments, sides, params_.polygon, 8, 0, view))
       polygons.push_back(std::move(polygon));
   const std::vector<ImageSegment> split = splitAtJunctions(segments, params_.polygon);
   if (split.size() > segments.size())
     for (int sides : side_counts_)
-      for (ImagePolygon& polygon : findPolygons(split, sides, params_.polygon, 8, kSearchPolygons))
+      for (ImagePolygon& polygon : findPolygons(split, sides, params_.polygon, 8, kSearchPolygons, view))
         if (std::none_of(polygons.begin(), polygons.end(), [&](const ImagePolygon& q) { return sameCorners(q, polygon); }))
           polygons.push_back(std::move(polygon));
   for (const ImagePolygon& polygon : polygons)
@@ -236,8 +251,6 @@ TrackerInitializer::Outcome TrackerInitializer::trySegments(std::vector<ImageSeg
   }
   // When no whole polygon started tracking: polygons with one side out of view (a partial view
   // with a side beyond the border).
-  const double border = std::max(params_.init_border_margin_px,
-                                 kOpenBorderRatio * (std::max(geometry_.width, geometry_.height) - 1.0));
   // The open polygons of `searched` (with `first_bridge` >= 0: each using one of its bridges).
   auto tryOpenPolygons = [&](const std::vector<ImageSegment>& searched, int first_bridge) {
     for (int sides : side_counts_)
@@ -319,15 +332,17 @@ TrackerInitializer::Outcome TrackerInitializer::tryPolygon(const ImagePolygon& p
     }
     if (c.min_fraction < weak_coverage)
       continue;
+    if (geometry_.map.polygons.size() > 1 && !candidate.rotations.empty())
+      pickRotationByEvidence(candidate, c, recent);
     if (!have || c.covered_px > best.covered_px)
     {
-      if (have && !sameHypothesis(init.pose, candidate.pose))
+      if (have && !sameUpToSymmetry(init.pose, candidate.pose))
         runner_up_px = std::max(runner_up_px, best.covered_px);
       have = true;
       init = candidate;
       best = c;
     }
-    else if (!sameHypothesis(init.pose, candidate.pose))
+    else if (!sameUpToSymmetry(init.pose, candidate.pose))
       runner_up_px = std::max(runner_up_px, c.covered_px);
   }
   if (!have)
@@ -335,6 +350,8 @@ TrackerInitializer::Outcome TrackerInitializer::tryPolygon(const ImagePolygon& p
     ++(any_pose ? stats_.coverage_failed : stats_.pose_failed);
     return Outcome::kNext;
   }
+  if (std::isinf(init.up_margin))
+    uprightAmongSymmetric(init);
   // A symmetric polygon fits its corners in several rotations (the square's four, 90 deg
   // apart): the map's up picks one, and near the +-45 deg roll where two are equally upright
   // (perspective tilting the projected up by a few degrees) the pick is a coin toss. Wait until
@@ -360,10 +377,20 @@ TrackerInitializer::Outcome TrackerInitializer::tryPolygon(const ImagePolygon& p
   // their corners), the more it must repeat itself: one more agreeing detection when the
   // gaps exceed a quarter of the perimeter (a walking person's limbs made such a square).
   // An open polygon's missing side is inferred too.
+  double roll_rate_deg_s = 0;
   if (!confirmed(init.pose, polygon.open || polygon.gap_px > kInferredOutlineRatio * polygon.perimeter() ? 1 : 0,
-                 best.min_fraction >= params_.init_min_coverage))
+                 best.min_fraction >= params_.init_min_coverage, &roll_rate_deg_s))
   {
     ++stats_.unconfirmed;
+    return Outcome::kStop;
+  }
+  // The map's up picks among a symmetric polygon's rotations (a finite up-margin) only while the
+  // camera is near upright, which a camera rolling fast need not be: the confirming detections
+  // measure the roll rate, and a fast roll waits until it slows down (mid-flip re-initialisations
+  // at 920-1580 deg/s of roll took the square rotated by 90 deg; correct ones at most 230 deg/s).
+  if (std::isfinite(init.up_margin) && roll_rate_deg_s > params_.init_max_roll_rate_deg_s)
+  {
+    ++stats_.ambiguous;
     return Outcome::kStop;
   }
   recent_.clear();
@@ -376,6 +403,82 @@ TrackerInitializer::Outcome TrackerInitializer::tryPolygon(const ImagePolygon& p
   ++stats_.accepted;
   last_polygon_ = polygon;
   return Outcome::kStarted;
+}
+
+Pose TrackerInitializer::symmetric(const Eigen::Isometry3d& symmetry, const Pose& pose)
+{
+  // The camera at S * T_world_camera sees S(map) = map as the camera at T_world_camera sees it.
+  return Pose::fromWorldCamera(Eigen::Matrix3d(symmetry.linear() * pose.R_world_camera()),
+                               Eigen::Vector3d(symmetry * pose.p_world_camera()));
+}
+
+bool TrackerInitializer::sameUpToSymmetry(const Pose& a, const Pose& b) const
+{
+  return sameHypothesis(a, b) ||
+         std::any_of(symmetries_.begin(), symmetries_.end(),
+                     [&](const Eigen::Isometry3d& s) { return sameHypothesis(symmetric(s, a), b); });
+}
+
+void TrackerInitializer::uprightAmongSymmetric(InitialPose& init) const
+{
+  // The events chose this pose (or only one rotation of its polygon fits), but a symmetric map
+  // looks the same from its symmetric poses (two squares side by side, turned by 180 deg): the
+  // map's up picks among them, as it does among a symmetric polygon's rotations.
+  if (symmetries_.empty())
+    return;
+  double best = upScore(init.pose, geometry_.k, map_points_, geometry_.map.up_world);
+  double second = -std::numeric_limits<double>::infinity();
+  Pose best_pose = init.pose;
+  for (const auto& s : symmetries_)
+  {
+    const Pose pose = symmetric(s, init.pose);
+    const double score = upScore(pose, geometry_.k, map_points_, geometry_.map.up_world);
+    if (score > best)
+    {
+      second = best;
+      best = score;
+      best_pose = pose;
+    }
+    else
+      second = std::max(second, score);
+  }
+  init.pose = best_pose;
+  init.up_margin = best - second;
+}
+
+void TrackerInitializer::pickRotationByEvidence(InitialPose& candidate, Coverage& coverage,
+                                                const RecentEvents& recent) const
+{
+  // The map's up picked the candidate among its polygon's rotations that fit the corners; the
+  // rest of a map of several polygons lies elsewhere in each, so the events decide when one
+  // rotation explains clearly more of them than every other (in a flip, the Hough window's
+  // lagging roll made the up pick a triangle rotated by 120 deg: the square beside it was
+  // placed out of view and its events left unexplained). Then the up no longer decides.
+  const double weak_coverage = kWeakCoverageRatio * params_.init_min_coverage;
+  Pose best_pose = candidate.pose;
+  Coverage best = coverage;
+  double runner_up_px = 0;
+  for (Pose rotation : candidate.rotations)
+  {
+    if (refine_events_ > 0)
+      rotation = refineWithWindowEvents(rotation, recent);
+    const Coverage c = sideCoverage(rotation, recent);
+    if (c.min_fraction < weak_coverage)
+      continue;
+    if (c.covered_px > best.covered_px)
+    {
+      runner_up_px = best.covered_px;
+      best_pose = rotation;
+      best = c;
+    }
+    else
+      runner_up_px = std::max(runner_up_px, c.covered_px);
+  }
+  if (best.covered_px <= kTwinMargin * runner_up_px)
+    return;  // the events cannot tell them apart: the up decides
+  candidate.pose = best_pose;
+  candidate.up_margin = std::numeric_limits<double>::infinity();
+  coverage = best;
 }
 
 TrackerInitializer::RecentEvents TrackerInitializer::recentEvents() const

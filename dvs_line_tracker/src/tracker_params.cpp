@@ -61,6 +61,8 @@ dvs_driver::ParamTable trackerParamTable(LineTrackerParams& p, std::string& solv
   positive("init_confirm_angle_deg", p.init_confirm_angle_deg, "deg", 180, "agreement: orientation difference");
   t.add("init_min_up_margin", p.init_min_up_margin, "", 0, 2,
         "a symmetric polygon's pose must be this much more upright (cosine) than its rotations that fit");
+  positive("init_max_roll_rate", p.init_max_roll_rate_deg_s, "deg/s", kInf,
+           "and the camera must roll slower than this between the confirming detections (the map's up assumes near upright)");
   t.add("polygon_min_angle_deg", p.polygon.min_turn_angle_deg, "deg", 0, 180, "turn between neighbouring sides, at least");
   t.add("polygon_max_angle_deg", p.polygon.max_turn_angle_deg, "deg", 0, 180, "turn between neighbouring sides, at most");
   positive("polygon_corner_proximity_ratio", p.polygon.corner_proximity_ratio, "", kInf,

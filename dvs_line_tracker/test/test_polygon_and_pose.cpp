@@ -209,6 +209,32 @@ TEST(PolygonSearch, FindsPolygonsWithOneSideOutOfView)
   EXPECT_TRUE(findOpenPolygons(segs, 3, PolygonSearchParams(), 128, 128, 4.0, 8).empty());
 }
 
+TEST(PolygonSearch, CornerFarBeyondTheBorderIsFoundWhenTheSidesReachIt)
+{
+  // A square tilted 60 deg close to a wide lens (640x480): its lower corner lies 260 px below
+  // the image; the two sides that meet there run out of view 210 px apart (the segments of a
+  // sweep scene that never started). Without the image, the ends are too far from the corner.
+  const std::vector<ImageSegment> segs = {
+      seg(60, 66, 349, 135),   // top
+      seg(345, 133, 491, 404),  // right
+      seg(492, 397, 452, 487),  // lower right, out of view at the bottom
+      seg(239, 495, 60, 66),    // left, from below the image
+  };
+  ImagePolygon poly;
+  EXPECT_FALSE(findPolygon(segs, 4, PolygonSearchParams(), poly));
+  const auto found = findPolygons(segs, 4, PolygonSearchParams(), 8, 0, ImageView{640, 480, 38});
+  ASSERT_EQ(found.size(), 1u);
+  const Eigen::Vector2d below(340.5, 738.5);  // the lines' intersection
+  EXPECT_TRUE(std::any_of(found[0].corners.begin(), found[0].corners.end(),
+                          [&](const Eigen::Vector2d& c) { return (c - below).norm() < 3.0; }));
+  // The hidden parts are no gap: only the corners in view count.
+  EXPECT_LT(found[0].gap_px, 40.0);
+  // Sides that stop inside the image still need their corner near their ends.
+  const std::vector<ImageSegment> short_sides = {seg(60, 66, 349, 135), seg(345, 133, 491, 404),
+                                                 seg(492, 397, 470, 446), seg(190, 380, 60, 66)};
+  EXPECT_TRUE(findPolygons(short_sides, 4, PolygonSearchParams(), 8, 0, ImageView{640, 480, 38}).empty());
+}
+
 TEST(PolygonSearch, BridgesAnUndetectedSideBetweenSidesRunningOutOfView)
 {
   // A square whose right side lies beyond a 128x128 image and whose left side (parallel to the

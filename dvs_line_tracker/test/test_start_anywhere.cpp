@@ -110,6 +110,28 @@ TEST(StartAnywhere, KeepsTheTrackWhenTheCameraPauses)
 // off; every pose of a several-polygon map must now explain half the window's events.
 TEST(StartAnywhere, PairNotTakenForTheOtherSquare) { expectStartsAndTracks(sweepScene(76), 0.35, 0.97, 0.02); }
 
+// A grey square tilted 60 deg at 0.96 m on 640x480 (78 deg, k1 -0.17), a corner 260 px below the
+// image before a 2000 deg/s flip (scene 107): the two sides meeting there run out of view
+// 210 px apart, too far from their corner for the gap rule (no pose at all before). Its first
+// pose comes 0.285 s after the edges fire (so a bound of 0.35 s).
+TEST(StartAnywhere, CornerFarBelowTheImage) { expectStartsAndTracks(sweepScene(107), 0.35, 0.97, 0.01); }
+
+// A grey square at 0.55 m on 128x128 (85 deg, k1 -0.25) rolling through 2000 deg/s flips
+// (scene 104): re-acquisitions mid-roll, where the square is upside down or on its side, took
+// one of its other rotations (88 deg off, twice); the map's up picks its rotation only while
+// the confirming detections roll slower than init_max_roll_rate. 72 % tracked.
+TEST(StartAnywhere, NoWrongRotationWhileRolling) { expectStartsAndTracks(sweepScene(104), 0.3, 0.65, 0.025); }
+
+// A square and a triangle in a 2000 deg/s flip on 128x128, 109 deg (scene 92): the roll lagging
+// in the Hough window made the up pick the triangle rotated by 120 deg, the square then placed
+// out of view (197 % of the distance off); the rotation that also explains the square's
+// events now wins, whatever the up says.
+TEST(StartAnywhere, RotationChosenByTheRestOfTheMap) { expectStartsAndTracks(sweepScene(92), 0.3, 0.97, 0.025); }
+
+// Two squares side by side look the same turned by 180 deg (scene 105: 240x180, slow, heavy
+// noise): the events cannot tell the two apart, so the map's up picks between them.
+TEST(StartAnywhere, SymmetricPairIsTakenUpright) { expectStartsAndTracks(sweepScene(105)); }
+
 // A 0.4 s blackout of every event in the middle of a hand-held motion (the camera moves about
 // 0.16 m and turns meanwhile): the stale pose is dropped and a correct pose (5 % / 3 deg) is
 // back within 0.3 s after the events return.

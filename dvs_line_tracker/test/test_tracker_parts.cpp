@@ -57,12 +57,28 @@ TEST(TrackerParams, TableNamesTheBadParameterAndItsBounds)
   p.hough.radius_bin_px = 1e-9;  // used to be a vector-too-large error deep inside the Hough space
   p.min_unattributed_structure = 1.5;
   p.init_min_up_margin = -0.1;
+  p.init_max_roll_rate_deg_s = 0;
   const std::string err = validateParams(p);
   EXPECT_NE(err.find("buffer_size must be in [2, 1024] events (got 1)"), std::string::npos) << err;
   EXPECT_NE(err.find("hough_radius_bin_px must be in [0.1, 100] px"), std::string::npos) << err;
   EXPECT_NE(err.find("min_unattributed_structure must be in [0, 1]"), std::string::npos) << err;
   EXPECT_NE(err.find("init_min_up_margin must be in [0, 2]"), std::string::npos) << err;
+  EXPECT_NE(err.find("init_max_roll_rate must be"), std::string::npos) << err;
   EXPECT_THROW(LineTracker(dvs_calibration::CameraModel::dvs128(), defaultSquareMap(), p), std::invalid_argument);
+}
+
+TEST(PoseTypes, RollRateIsTheTurnAboutTheOpticalAxis)
+{
+  using dvs_calibration::lookAt;
+  const Eigen::Vector3d eye(0.3, -0.2, 1.5), target(0, 0, 0), up(0, 1, 0);
+  const Pose a = lookAt(eye, target, up, 0.1);
+  // 10 deg of roll in 10 ms: 1000 deg/s, signed.
+  EXPECT_NEAR(rollRateDegS(a, lookAt(eye, target, up, 0.1 + 10 * M_PI / 180), 0.01), 1000, 1e-6);
+  EXPECT_NEAR(rollRateDegS(a, lookAt(eye, target, up, 0.1 - 10 * M_PI / 180), 0.01), -1000, 1e-6);
+  // Panning (about the camera's y axis) is no roll.
+  const Pose panned = Pose::fromWorldCamera(Eigen::Matrix3d(a.R_world_camera() * Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitY())),
+                                            a.p_world_camera());
+  EXPECT_NEAR(rollRateDegS(a, panned, 0.01), 0, 1e-9);
 }
 
 TEST(TrackerParams, CrossParameterRules)

@@ -3,6 +3,7 @@
 // polygons they form (used by the initialisation) and an "up" hint that resolves the
 // symmetry of regular polygons (thesis 4.2.1: roll about the optical axis within +-45 deg).
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include <stdexcept>
 #include <string>
@@ -55,6 +56,13 @@ LineMap parseLineMap(const std::string& yaml_text, const std::string& name);
 /// Validate the segments and find the closed polygons (endpoints shared within 1 mm). Throws
 /// LineMapError on an empty map, a degenerate segment, or no closed polygon.
 void finalizeLineMap(LineMap& map, const std::string& name = "map");
+
+/// The map's symmetries: the rigid motions S other than the identity that map its segments onto
+/// its segments (endpoints within `tolerance_m`, either direction) and keep its front side: for
+/// a planar map, rotations about the plane's normal through its centroid (the square's 90, 180
+/// and 270 deg; two squares side by side: 180 deg). A camera at T_world_camera and one at
+/// S * T_world_camera see the same image. Non-planar maps: none (not searched).
+std::vector<Eigen::Isometry3d> lineMapSymmetries(const LineMap& map, double tolerance_m = 1e-3);
 
 /// YAML text of a map (the formats.md layout).
 std::string lineMapToYaml(const LineMap& map);

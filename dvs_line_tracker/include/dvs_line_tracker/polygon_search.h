@@ -43,6 +43,16 @@ struct ImagePolygon
   double signedArea() const;
 };
 
+/// The image the segments were detected in, for polygons cut by its border: a side's end within
+/// `border_px` of the border [0, width - 1] x [0, height - 1] may be followed by a hidden part,
+/// so a corner beyond the border is not required near it. width <= 0: no image known (every
+/// corner must lie near its sides' ends).
+struct ImageView
+{
+  double width = 0, height = 0, border_px = 0;
+  bool known() const { return width > 0 && height > 0; }
+};
+
 /// The same polygon: as many corners, each within 0.5 px of one of the other's (in any order),
 /// both open or both closed.
 bool sameCorners(const ImagePolygon& a, const ImagePolygon& b);
@@ -90,7 +100,10 @@ bool findPolygon(const std::vector<ImageSegment>& segments, int num_sides, const
 /// segments first), sorted by gap_px (sides that meet best first), so that a caller can try the
 /// next when one fails. With `search_polygons` > max_polygons, that many are collected and the
 /// best max_polygons of them returned (the first found use the longest segments, which may
-/// join neighbouring polygons' collinear sides).
+/// join neighbouring polygons' collinear sides). With a known `view`, a corner beyond the image
+/// border may lie any distance (up to the image size beyond the border) from the ends of its
+/// sides that reach the border (a corner out of view at the start).
 std::vector<ImagePolygon> findPolygons(const std::vector<ImageSegment>& segments, int num_sides,
-                                       const PolygonSearchParams& params, int max_polygons, int search_polygons = 0);
+                                       const PolygonSearchParams& params, int max_polygons, int search_polygons = 0,
+                                       const ImageView& view = ImageView());
 }  // namespace dvs_line_tracker

@@ -50,11 +50,21 @@ struct InitialPose
   /// away) a polygon tilted the other way projects to nearly the same corners. The caller tells
   /// the two apart with more evidence (the events along every map edge).
   std::vector<Pose> alternatives;
+  /// The other assignments of the corners to the same polygon that also fit and see it from the
+  /// front (a symmetric polygon's other rotations: the square's at 90, 180, 270 deg), most
+  /// upright first. The map's up picked `pose` among them; with several map polygons the rest
+  /// of the map can tell them apart (the caller's evidence).
+  std::vector<Pose> rotations;
 };
 
 /// Two pose hypotheses within 3 % of the distance and 3 deg are the same (the initialiser's
 /// ambiguity tests: between map polygons, and between a symmetric polygon's rotations).
 inline bool sameHypothesis(const Pose& a, const Pose& b) { return posesAgree(b, a, 0.03, 3.0); }
+
+/// How upright `pose` sees the points `world` (e.g. a polygon's corners): the cosine between
+/// the projected map `up` at their centre and the image's up (-y); -1 when behind the camera.
+double upScore(const Pose& pose, const PinholeK& k, const std::vector<Eigen::Vector3d>& world,
+               const Eigen::Vector3d& up);
 
 /// Corners' reprojection RMS (px) of `pose`.
 double cornerReprojectionRms(const Pose& pose, const PinholeK& k, const std::vector<Eigen::Vector2d>& image,

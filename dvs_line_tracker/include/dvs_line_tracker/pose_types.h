@@ -21,6 +21,14 @@ inline bool posesAgree(const Pose& pose, const Pose& reference, double position_
          orientationError(pose, reference) < angle_deg * M_PI / 180;
 }
 
+/// The roll (rotation about the camera's optical axis) from `from` to `to` over `dt_s` seconds,
+/// as a rate in deg/s (signed; the z component of the relative rotation vector, camera frame).
+inline double rollRateDegS(const Pose& from, const Pose& to, double dt_s)
+{
+  const Eigen::AngleAxisd relative(Eigen::Matrix3d(from.R_camera_world * to.R_world_camera()));
+  return relative.angle() * relative.axis().z() * 180 / M_PI / dt_s;
+}
+
 /// The cross-product matrix: skew(w) v = w x v.
 inline Eigen::Matrix3d skew(const Eigen::Vector3d& w)
 {

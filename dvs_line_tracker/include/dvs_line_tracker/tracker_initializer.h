@@ -39,7 +39,7 @@ struct InitializerStats
   uint64_t pose_failed = 0;           ///< polygons whose corners gave no consistent pose
   uint64_t coverage_failed = 0;       ///< poses whose projected map was not backed by window events
   uint64_t unexplained = 0;           ///< poses of open polygons (one side out of view) or of maps of several polygons that left most recent events unexplained
-  uint64_t ambiguous = 0;             ///< two map polygons explained the events about equally well
+  uint64_t ambiguous = 0;             ///< the map did not decide: two map polygons explained the events about equally well, or a symmetric polygon's rotations were about equally upright, or the camera rolled too fast for the map's up to pick one
   uint64_t unconfirmed = 0;           ///< valid detections waiting for an agreeing one
   uint64_t declined = 0;              ///< confirmed poses the tracker declined (too little map in view)
   uint64_t accepted = 0;
@@ -83,7 +83,9 @@ private:
   bool alongBorder(const ImageSegment& segment) const;
   /// A later detection agreeing with `pose` (position / distance and angle bounds) is needed;
   /// when none of the agreeing detections is `strong` (covered init_min_coverage), one more.
-  bool confirmed(const Pose& pose, int extra = 0, bool strong = true);
+  /// `roll_rate_deg_s` (optional): the fastest roll (about the optical axis) from an agreeing
+  /// earlier detection to this one.
+  bool confirmed(const Pose& pose, int extra = 0, bool strong = true, double* roll_rate_deg_s = nullptr);
   /// The voted positions a detection attempt works on, copied once per attempt.
   struct RecentEvents
   {
@@ -115,6 +117,17 @@ private:
   /// within the attribution distance (min_fraction 0 when fewer than min_visible_segments are
   /// visible or a polygon's inside is busy).
   Coverage sideCoverage(const Pose& pose, const RecentEvents& recent) const;
+  /// With several map polygons: the candidate's polygon rotated (InitialPose::rotations) when
+  /// one rotation explains clearly more events than every other (then its up_margin is
+  /// infinite: the map, not its up, decided).
+  void pickRotationByEvidence(InitialPose& candidate, Coverage& coverage, const RecentEvents& recent) const;
+  /// The camera pose that sees the map as `pose` does after the map symmetry `symmetry`.
+  static Pose symmetric(const Eigen::Isometry3d& symmetry, const Pose& pose);
+  /// The same hypothesis (sameHypothesis), or one of its symmetric poses (lineMapSymmetries).
+  bool sameUpToSymmetry(const Pose& a, const Pose& b) const;
+  /// A pose the events decided (infinite up_margin): replaced by its most upright symmetric
+  /// pose (lineMapSymmetries), up_margin its lead over the next; unchanged without symmetries.
+  void uprightAmongSymmetric(InitialPose& init) const;
   /// Fraction of the Hough window's events within the attribution distance of a projected map
   /// segment (the evidence `pose` explains, whatever it leaves out).
   double explainedFraction(const Pose& pose, const RecentEvents& recent) const;
@@ -125,12 +138,15 @@ private:
   HoughLineDetector hough_;
   int check_interval_, min_events_, refine_events_;
   std::vector<int> side_counts_;   ///< distinct side counts of the map's polygons
+  std::vector<Eigen::Isometry3d> symmetries_;  ///< lineMapSymmetries of the map
+  std::vector<Eigen::Vector3d> map_points_;    ///< every map segment's endpoints (the map's up score)
   int voted_since_check_ = 0;
   int64_t last_check_ns_ = std::numeric_limits<int64_t>::min() / 2;
   struct Detection
   {
     Pose pose;
     bool strong = true;  ///< covered init_min_coverage (not only its kWeakCoverageRatio)
+    int64_t t_ns = 0;    ///< when it was detected
   };
   std::vector<Detection> recent_;  ///< the last detections awaiting confirmation
   ImagePolygon last_polygon_;

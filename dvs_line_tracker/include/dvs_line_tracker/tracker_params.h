@@ -86,6 +86,9 @@ struct LineTrackerParams
   /// and image up) than its other rotations that fit the corners: 0.2 waits while the roll is
   /// within about 8 deg of the +-45 deg where the square's two rotations are equally upright.
   double init_min_up_margin = 0.2;
+  /// ... and only while the camera rolls slower than this (the roll rate between the confirming
+  /// detections): mid-flip, the camera need not be near upright.
+  double init_max_roll_rate_deg_s = 500.0;
   double init_max_inside_ratio = 0.3; ///< window events well inside the polygon / events on its sides, upper bound
   // Tracking-quality monitoring.
   int quality_check_interval = 512;  ///< events between quality checks while tracking
