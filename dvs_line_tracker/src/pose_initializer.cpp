@@ -320,6 +320,7 @@ bool estimateInitialPose(const std::vector<Eigen::Vector2d>& corners_ideal_px, c
     Pose pose;
     double up_score;
     int polygon;
+    bool front;  ///< sees the polygon from the front
   };
   std::vector<Fitting> fitting;
   for (size_t pi = 0; pi < map.polygons.size(); ++pi)
@@ -376,10 +377,11 @@ bool estimateInitialPose(const std::vector<Eigen::Vector2d>& corners_ideal_px, c
           continue;
         // Map polygons are listed counter-clockwise seen from the side they are viewed from:
         // a camera behind the polygon (a mirrored solution) is heavily penalised.
+        const bool front = !(poly.planar && n >= 3) || viewedFromFront(poly, pose);
         double score = upScore(pose, k, world, map.up_world);
-        if (poly.planar && n >= 3 && !viewedFromFront(poly, pose))
+        if (!front)
           score -= 10.0;
-        fitting.push_back({pose, score, static_cast<int>(pi)});
+        fitting.push_back({pose, score, static_cast<int>(pi), front});
         const bool better = !found || score > best.up_score + 1e-6 ||
                             (std::abs(score - best.up_score) <= 1e-6 && rms < best.reprojection_rms_px);
         if (better)
@@ -400,8 +402,7 @@ bool estimateInitialPose(const std::vector<Eigen::Vector2d>& corners_ideal_px, c
     if (f.polygon == best.polygon_index && !sameHypothesis(best.pose, f.pose))
     {
       best.up_margin = std::min(best.up_margin, best.up_score - f.up_score);
-      if (viewedFromFront(map.polygons[f.polygon], f.pose) &&
-          std::none_of(best.rotations.begin(), best.rotations.end(), [&](const Pose& r) { return sameHypothesis(r, f.pose); }))
+      if (f.front && std::none_of(best.rotations.begin(), best.rotations.end(), [&](const Pose& r) { return sameHypothesis(r, f.pose); }))
         best.rotations.push_back(f.pose);
     }
   const MapPolygon& chosen = map.polygons[best.polygon_index];

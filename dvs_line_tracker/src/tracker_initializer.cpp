@@ -296,7 +296,6 @@ TrackerInitializer::Outcome TrackerInitializer::tryPolygon(const ImagePolygon& p
   // wait until the view tells them apart).
   // Hypotheses covered less than init_min_coverage (but kWeakCoverageRatio of it) are weak
   // detections: they may confirm a strong one, or be confirmed by one, never start alone.
-  const double weak_coverage = kWeakCoverageRatio * params_.init_min_coverage;
   bool have = false, any_pose = false;
   InitialPose init;
   Coverage best;
@@ -323,14 +322,13 @@ TrackerInitializer::Outcome TrackerInitializer::tryPolygon(const ImagePolygon& p
       if (refine_events_ > 0)
         twin = refineWithWindowEvents(twin, recent);
       const Coverage ct = sideCoverage(twin, recent);
-      const bool primary_valid = c.min_fraction >= weak_coverage;
-      if (ct.min_fraction >= weak_coverage && (!primary_valid || ct.covered_px > kTwinMargin * c.covered_px))
+      if (valid(ct) && (!valid(c) || ct.covered_px > kTwinMargin * c.covered_px))
       {
         candidate.pose = twin;
         c = ct;
       }
     }
-    if (c.min_fraction < weak_coverage)
+    if (!valid(c))
       continue;
     if (geometry_.map.polygons.size() > 1 && !candidate.rotations.empty())
       pickRotationByEvidence(candidate, c, recent);
@@ -454,7 +452,6 @@ void TrackerInitializer::pickRotationByEvidence(InitialPose& candidate, Coverage
   // rotation explains clearly more of them than every other (in a flip, the Hough window's
   // lagging roll made the up pick a triangle rotated by 120 deg: the square beside it was
   // placed out of view and its events left unexplained). Then the up no longer decides.
-  const double weak_coverage = kWeakCoverageRatio * params_.init_min_coverage;
   Pose best_pose = candidate.pose;
   Coverage best = coverage;
   double runner_up_px = 0;
@@ -463,7 +460,7 @@ void TrackerInitializer::pickRotationByEvidence(InitialPose& candidate, Coverage
     if (refine_events_ > 0)
       rotation = refineWithWindowEvents(rotation, recent);
     const Coverage c = sideCoverage(rotation, recent);
-    if (c.min_fraction < weak_coverage)
+    if (!valid(c))
       continue;
     if (c.covered_px > best.covered_px)
     {
@@ -479,6 +476,11 @@ void TrackerInitializer::pickRotationByEvidence(InitialPose& candidate, Coverage
   candidate.pose = best_pose;
   candidate.up_margin = std::numeric_limits<double>::infinity();
   coverage = best;
+}
+
+bool TrackerInitializer::valid(const Coverage& coverage) const
+{
+  return coverage.min_fraction >= kWeakCoverageRatio * params_.init_min_coverage;
 }
 
 TrackerInitializer::RecentEvents TrackerInitializer::recentEvents() const

@@ -117,6 +117,9 @@ private:
   /// within the attribution distance (min_fraction 0 when fewer than min_visible_segments are
   /// visible or a polygon's inside is busy).
   Coverage sideCoverage(const Pose& pose, const RecentEvents& recent) const;
+  /// A hypothesis is valid when covered at least kWeakCoverageRatio of init_min_coverage (weak
+  /// below init_min_coverage itself).
+  bool valid(const Coverage& coverage) const;
   /// With several map polygons: the candidate's polygon rotated (InitialPose::rotations) when
   /// one rotation explains clearly more events than every other (then its up_margin is
   /// infinite: the map, not its up, decided).
