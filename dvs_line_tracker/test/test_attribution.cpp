@@ -3,6 +3,10 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <random>
+#include <vector>
+
 using namespace dvs_line_tracker;
 
 namespace
@@ -150,4 +154,129 @@ TEST(SegmentBuffer, EventsTheLineMovedAwayFromExpire)
   EXPECT_EQ(c.size(), 2);
   EXPECT_DOUBLE_EQ(c.point(slot).x(), 20.0);
   EXPECT_TRUE(c.point(0).x() == 10.0 || c.point(1).x() == 10.0);
+}
+
+namespace
+{
+/// The buffer rule written out plainly (one pass over every stored event per insertion, as the
+/// rule in segment_attribution.h reads): the reference the fast buffer must agree with.
+struct PlainBuffer
+{
+  explicit PlainBuffer(int capacity) : capacity(capacity) {}
+  int capacity;
+  std::vector<Eigen::Vector2d> points;
+  std::vector<double> offsets;
+  std::vector<uint64_t> stamps;
+  uint64_t clock = 0;
+
+  void removeAt(size_t i)
+  {
+    points[i] = points.back();
+    offsets[i] = offsets.back();
+    stamps[i] = stamps.back();
+    points.pop_back();
+    offsets.pop_back();
+    stamps.pop_back();
+  }
+  void expire(const ProjectedSegment& seg, double max_motion)
+  {
+    for (size_t i = 0; i < points.size();)
+      if (std::abs(seg.normal.dot(points[i] - seg.a) - offsets[i]) > max_motion)
+        removeAt(i);
+      else
+        ++i;
+  }
+  int insert(const Eigen::Vector2d& p, const ProjectedSegment& seg, double max_orth, double max_par, double max_motion)
+  {
+    ++clock;
+    if (max_motion < 1e299)
+      expire(seg, max_motion);
+    int slot = static_cast<int>(points.size());
+    if (slot < capacity)
+    {
+      points.push_back(p);
+      offsets.push_back(0);
+      stamps.push_back(0);
+    }
+    else
+    {
+      int stale = -1, closest = 0, oldest = 0;
+      double worst = 0, best = 1e300;
+      const double s_new = seg.dir.dot(p - seg.a);
+      for (int i = 0; i < capacity; ++i)
+      {
+        const double o = seg.normal.dot(points[i] - seg.a), s = seg.dir.dot(points[i] - seg.a);
+        const double excess = std::max(std::abs(o) - max_orth, std::max(-s, s - seg.length) - max_par);
+        if (excess > worst)
+          worst = excess, stale = i;
+        if (std::abs(s - s_new) < best)
+          best = std::abs(s - s_new), closest = i;
+        if (stamps[i] < stamps[oldest])
+          oldest = i;
+      }
+      slot = stale >= 0 ? stale : (best < 0.5 * seg.length / capacity ? closest : oldest);
+    }
+    points[slot] = p;
+    offsets[slot] = seg.normal.dot(p - seg.a);
+    stamps[slot] = clock;
+    return slot;
+  }
+};
+}  // namespace
+
+TEST(SegmentBuffer, SkippingTheExaminationOfEveryEventChoosesWhatTheRuleChooses)
+{
+  // A line that drifts, turns and jumps, events around it (some stale, some repeated at the
+  // same place), expiries between insertions: the buffer's slot choice and contents must be
+  // those of the plain rule at every step, and its fast path (no event examined but the
+  // replacement search) must have been taken most of the time for this to mean anything.
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::normal_distribution<double> g(0, 1);
+  int checked = 0;
+  uint64_t examined = 0;
+  for (int trial = 0; trial < 40; ++trial)
+  {
+    const int capacity = 2 + trial % 12 * 4;
+    const double max_orth = 1.0 + u(rng) * 2, max_par = 5 + u(rng) * 10;
+    const double max_motion = trial % 4 == 0 ? 1e300 : 0.2 + u(rng) * 0.8;
+    SegmentBuffer fast(capacity);
+    PlainBuffer plain(capacity);
+    double angle = u(rng) * 6.3, offset = 0, along0 = 0, length = 40 + u(rng) * 60;
+    for (int step = 0; step < 3000; ++step)
+    {
+      // The line moves a little most of the time and jumps now and then.
+      const bool jump = u(rng) < 0.003;
+      angle += (jump ? 0.2 : 0.002) * g(rng);
+      offset += (jump ? 3.0 : 0.02) * g(rng);
+      along0 += 0.05 * g(rng);
+      length = std::max(10.0, length + 0.05 * g(rng));
+      const Eigen::Vector2d dir(std::cos(angle), std::sin(angle)), normal(-dir.y(), dir.x());
+      const Eigen::Vector2d a = Eigen::Vector2d(64, 64) + offset * normal + along0 * dir;
+      ProjectedSegment seg;
+      seg.set(a, a + length * dir);
+      if (u(rng) < 0.02)
+      {
+        fast.expire(seg, max_motion < 1e299 ? max_motion : 0.5);
+        plain.expire(seg, max_motion < 1e299 ? max_motion : 0.5);
+      }
+      // Events on pixel-like positions near the line (repeats happen), a few far off.
+      const double t = std::round((u(rng) * 1.2 - 0.1) * length * 4) / 4;
+      const double o = u(rng) < 0.05 ? 3 * max_orth * g(rng) : std::round(0.7 * g(rng) * 4) / 4;
+      const Eigen::Vector2d p = a + t * dir + o * normal;
+      const int s_fast = fast.insert(p, seg, max_orth, max_par, max_motion);
+      const int s_plain = plain.insert(p, seg, max_orth, max_par, max_motion);
+      ASSERT_EQ(s_fast, s_plain) << "trial " << trial << " step " << step;
+      ASSERT_EQ(fast.size(), static_cast<int>(plain.points.size()));
+      for (int i = 0; i < fast.size(); ++i)
+      {
+        ASSERT_EQ(fast.point(i), plain.points[i]) << "trial " << trial << " step " << step << " slot " << i;
+        ASSERT_EQ(fast.stamp(i), plain.stamps[i]);
+      }
+      ++checked;
+    }
+    examined += fast.examinations();
+  }
+  EXPECT_EQ(checked, 40 * 3000);
+  EXPECT_LT(examined, static_cast<uint64_t>(checked / 2));
 }

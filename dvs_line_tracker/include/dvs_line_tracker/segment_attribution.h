@@ -149,27 +149,43 @@ struct PointMoments
 /// current projected line or `max_parallel_px` beyond its ends: stale, e.g. left behind by a
 /// moving corner); else the stored event closest to it along the segment when that one is
 /// closer than half the spacing of uniformly spread events (thesis Fig. 4.6b); else the oldest.
+///
+/// Most insertions drop nothing: the buffer keeps a bounding box of its events in the frame of
+/// the line it last examined them against (the reference line), and while the current line is
+/// close enough to that one that no event of the box can have become stale or moved too far,
+/// only the replacement search runs (one pass). Otherwise every event is examined (as the
+/// rule above says) and the reference is moved to the current line. The slots are stored as
+/// separate arrays (x, y, offset, weight, stamp) so that the passes vectorise.
 class SegmentBuffer
 {
 public:
   explicit SegmentBuffer(int capacity = 8)
-    : points_(capacity), offsets_(capacity, 0.0), weights_(capacity, 0.0), stamps_(capacity, 0)
+    : x_(capacity, 0.0)
+    , y_(capacity, 0.0)
+    , offsets_(capacity, 0.0)
+    , weights_(capacity, 0.0)
+    , stamps_(capacity, 0)
+    , offset_now_(capacity, 0.0)
+    , along_now_(capacity, 0.0)
   {
   }
 
-  int capacity() const { return static_cast<int>(points_.size()); }
+  int capacity() const { return static_cast<int>(x_.size()); }
   int size() const { return size_; }
-  const Eigen::Vector2d& point(int i) const { return points_[i]; }
+  Eigen::Vector2d point(int i) const { return Eigen::Vector2d(x_[i], y_[i]); }
   double weight(int i) const { return weights_[i]; }
   /// Insertion count of the buffer when point `i` was inserted (its age in insertions: clock() - stamp(i)).
   uint64_t stamp(int i) const { return stamps_[i]; }
   uint64_t clock() const { return clock_; }
   /// Weighted moments of the stored points.
   const PointMoments& moments() const { return moments_; }
+  /// Insertions that examined every stored event (the others ran only the replacement search).
+  uint64_t examinations() const { return examinations_; }
   void clear()
   {
     size_ = 0;
     moments_ = PointMoments();
+    has_reference_ = false;
   }
 
   /// Insert `p` given the segment's current projection. Returns the slot written.
@@ -179,80 +195,221 @@ public:
     ++clock_;
     const double offset_new = seg.normal.dot(p - seg.a);
     const double weight_new = std::abs(offset_new) <= huber_px ? 1.0 : huber_px / std::abs(offset_new);
-    // One pass over the stored events: drop those the line has moved away from (expire()), and
-    // among the others find the replacement candidates of a full buffer. A dropped event is
-    // replaced by the last one, which is examined next: the candidates are found in the order
-    // of the compacted buffer, as by an expire() followed by a search. (A buffer that is not
-    // full needs no candidates: then only the expiry, if any.)
+    // Drop the events the line has moved away from (as expire() does: a dropped event is
+    // replaced by the last one), then, in a full buffer, find the replacement among the others.
+    // (A buffer that is not full needs no candidates: then only the expiry, if any.)
     const bool expiring = max_motion_px < 1e299;
-    const bool full = size_ == capacity();
-    if (!full && !expiring)
+    if (size_ < capacity() && !expiring)
       return append(p, offset_new, weight_new);
-    const double s_new = seg.dir.dot(p - seg.a);
-    int closest = 0, oldest = -1, stale = -1;
-    double best = 1e300, worst_excess = 0;
-    for (int i = 0; i < size_;)
+    if (size_ == capacity() && has_reference_ && nothingToDrop(seg, max_orthogonal_px, max_parallel_px, max_motion_px))
     {
-      const Eigen::Vector2d v = points_[i] - seg.a;
-      const double offset = seg.normal.dot(v);
-      if (expiring && std::abs(offset - offsets_[i]) > max_motion_px)
-      {
-        removeAt(i);
-        continue;
-      }
-      if (!full)
-      {
-        ++i;
-        continue;
-      }
-      const double s = seg.dir.dot(v);
-      const double excess =
-          std::max(std::abs(offset) - max_orthogonal_px, std::max(-s, s - seg.length) - max_parallel_px);
-      if (excess > worst_excess)
-      {
-        worst_excess = excess;
-        stale = i;
-      }
-      const double ds = std::abs(s - s_new);
-      if (ds < best)
-      {
-        best = ds;
-        closest = i;
-      }
-      if (oldest < 0 || stamps_[i] < stamps_[oldest])
-        oldest = i;
-      ++i;
+      const int slot = closestOrOldest(seg, seg.dir.dot(p - seg.a));
+      moments_.add(point(slot), weights_[slot], -1.0);
+      return store(slot, p, offset_new, weight_new);
     }
+    ++examinations_;
+    placeOnLine(seg);
+    if (expiring)
+    {
+      int moved = 0;
+      for (int i = 0; i < size_; ++i)
+        moved += std::abs(offset_now_[i] - offsets_[i]) > max_motion_px;
+      for (int i = 0; moved > 0 && i < size_;)
+      {
+        if (std::abs(offset_now_[i] - offsets_[i]) > max_motion_px)
+        {
+          removeAt(i);
+          offset_now_[i] = offset_now_[size_];
+          along_now_[i] = along_now_[size_];
+          --moved;
+        }
+        else
+          ++i;
+      }
+    }
+    int slot;
     if (size_ < capacity())
-      return append(p, offset_new, weight_new);
-    const double threshold = 0.5 * seg.length / capacity();
-    const int slot = stale >= 0 ? stale : (best < threshold ? closest : oldest);
-    moments_.add(points_[slot], weights_[slot], -1.0);
-    return store(slot, p, offset_new, weight_new);
+      slot = append(p, offset_new, weight_new);
+    else
+    {
+      slot = replacementSlot(seg, seg.dir.dot(p - seg.a), max_orthogonal_px, max_parallel_px);
+      moments_.add(point(slot), weights_[slot], -1.0);
+      store(slot, p, offset_new, weight_new);
+    }
+    setReference(seg);
+    return slot;
   }
 
   /// Drop the stored events over which the projected line `seg` has moved farther than
   /// `max_motion_px` (along its normal, at the event) since they were inserted.
   void expire(const ProjectedSegment& seg, double max_motion_px)
   {
+    if (has_reference_ && motionBounded(seg, max_motion_px))
+      return;
     for (int i = 0; i < size_;)
     {
-      const double offset = seg.normal.dot(points_[i] - seg.a);
+      const double offset = seg.normal.dot(point(i) - seg.a);
       if (std::abs(offset - offsets_[i]) > max_motion_px)
         removeAt(i);
       else
         ++i;
     }
+    setReference(seg);
   }
 
 private:
+  /// Every stored event's signed offset from `seg`'s line and position along it from `a`
+  /// (offset_now_, along_now_).
+  void placeOnLine(const ProjectedSegment& seg)
+  {
+    const double ax = seg.a.x(), ay = seg.a.y();
+    const double nx = seg.normal.x(), ny = seg.normal.y(), dx = seg.dir.x(), dy = seg.dir.y();
+    const double* const xs = x_.data();
+    const double* const ys = y_.data();
+    double* const offset = offset_now_.data();
+    double* const along = along_now_.data();
+    const int n = size_;
+    for (int i = 0; i < n; ++i)
+    {
+      const double vx = xs[i] - ax, vy = ys[i] - ay;
+      offset[i] = nx * vx + ny * vy;
+      along[i] = dx * vx + dy * vy;
+    }
+  }
+
+  /// The slot a new event at `along_new` (along the line) takes in a full buffer, from
+  /// placeOnLine()'s results: the first stale event, else the closest if within half the
+  /// spacing, else the oldest.
+  int replacementSlot(const ProjectedSegment& seg, double along_new, double max_orthogonal_px,
+                      double max_parallel_px) const
+  {
+    const double length = seg.length;
+    const double* const offset = offset_now_.data();
+    const double* const along = along_now_.data();
+    const int n = size_;
+    int stale = -1;
+    double worst_excess = 0;
+    for (int i = 0; i < n; ++i)
+    {
+      const double excess = std::max(std::abs(offset[i]) - max_orthogonal_px,
+                                     std::max(-along[i], along[i] - length) - max_parallel_px);
+      if (excess > worst_excess)
+      {
+        worst_excess = excess;
+        stale = i;
+      }
+    }
+    return stale >= 0 ? stale : closestOrOldest(seg, along_new);
+  }
+
+  /// The stored event closest to `along_new` along `seg` if closer than half the spacing of
+  /// uniformly spread events, else the oldest (one pass, or two).
+  int closestOrOldest(const ProjectedSegment& seg, double along_new) const
+  {
+    const double ax = seg.a.x(), ay = seg.a.y(), dx = seg.dir.x(), dy = seg.dir.y();
+    const double* const xs = x_.data();
+    const double* const ys = y_.data();
+    const int n = size_;
+    int closest = 0;
+    double best = 1e300;
+    for (int i = 0; i < n; ++i)
+    {
+      const double ds = std::abs(dx * (xs[i] - ax) + dy * (ys[i] - ay) - along_new);
+      if (ds < best)
+      {
+        best = ds;
+        closest = i;
+      }
+    }
+    if (best < 0.5 * seg.length / capacity())
+      return closest;
+    int oldest = 0;
+    for (int i = 1; i < n; ++i)
+      if (stamps_[i] < stamps_[oldest])
+        oldest = i;
+    return oldest;
+  }
+
+  /// True when, by the reference box, no stored event can be stale against `seg` (beyond
+  /// `max_orthogonal_px` / `max_parallel_px`) or have moved farther than `max_motion_px` since
+  /// its insertion. (False means: examine every event.) A margin of kBoundMarginPx covers the
+  /// rounding of the bound against the per-event test it stands for.
+  bool nothingToDrop(const ProjectedSegment& seg, double max_orthogonal_px, double max_parallel_px,
+                     double max_motion_px) const
+  {
+    // A point s ref_dir + o ref_normal from the reference's a lies c0 + c1 s + c2 o from the
+    // current line and e0 + e1 s + e2 o along it from its a: linear, so extreme at the corners.
+    const Eigen::Vector2d da = ref_a_ - seg.a;
+    const double c0 = seg.normal.dot(da), c1 = seg.normal.dot(ref_dir_), c2 = seg.normal.dot(ref_normal_);
+    const double e0 = seg.dir.dot(da), e1 = seg.dir.dot(ref_dir_), e2 = seg.dir.dot(ref_normal_);
+    double lo, hi;
+    rangeOverBox(c0, c1, c2, &lo, &hi);
+    if (std::max(-lo, hi) > max_orthogonal_px - kBoundMarginPx)
+      return false;
+    rangeOverBox(e0, e1, e2, &lo, &hi);
+    if (-lo > max_parallel_px - kBoundMarginPx || hi - seg.length > max_parallel_px - kBoundMarginPx)
+      return false;
+    return max_motion_px >= 1e299 || motionBounded(seg, max_motion_px);
+  }
+
+  /// True when, by the reference box, no stored event can have moved farther than
+  /// `max_motion_px` from `seg`'s line since its insertion.
+  bool motionBounded(const ProjectedSegment& seg, double max_motion_px) const
+  {
+    // Motion since insertion = (offset now - offset from the reference) + (offset from the
+    // reference - offset at insertion); the second term is at most motion_at_reference_.
+    double lo, hi;
+    rangeOverBox(seg.normal.dot(ref_a_ - seg.a), seg.normal.dot(ref_dir_), seg.normal.dot(ref_normal_) - 1.0, &lo,
+                 &hi);
+    return std::max(-lo, hi) + motion_at_reference_ <= max_motion_px - kBoundMarginPx;
+  }
+
+  /// The range of k0 + k1 s + k2 o over the reference box.
+  void rangeOverBox(double k0, double k1, double k2, double* lo, double* hi) const
+  {
+    const double s0 = k1 * s_lo_, s1 = k1 * s_hi_, o0 = k2 * o_lo_, o1 = k2 * o_hi_;
+    *lo = k0 + std::min(s0, s1) + std::min(o0, o1);
+    *hi = k0 + std::max(s0, s1) + std::max(o0, o1);
+  }
+
+  /// Make `seg`'s line the reference and bound the stored events in its frame.
+  void setReference(const ProjectedSegment& seg)
+  {
+    ref_a_ = seg.a;
+    ref_dir_ = seg.dir;
+    ref_normal_ = seg.normal;
+    has_reference_ = true;
+    s_lo_ = o_lo_ = std::numeric_limits<double>::infinity();
+    s_hi_ = o_hi_ = -std::numeric_limits<double>::infinity();
+    motion_at_reference_ = 0;
+    for (int i = 0; i < size_; ++i)
+      addToBox(i);
+  }
+
+  /// Grow the reference box (and the motion bound) by stored event `i`. Events removed later
+  /// stay inside the box: it only ever over-covers, until the next setReference().
+  void addToBox(int i)
+  {
+    const double vx = x_[i] - ref_a_.x(), vy = y_[i] - ref_a_.y();
+    const double s = ref_dir_.x() * vx + ref_dir_.y() * vy;
+    const double o = ref_normal_.x() * vx + ref_normal_.y() * vy;
+    s_lo_ = std::min(s_lo_, s);
+    s_hi_ = std::max(s_hi_, s);
+    o_lo_ = std::min(o_lo_, o);
+    o_hi_ = std::max(o_hi_, o);
+    motion_at_reference_ = std::max(motion_at_reference_, std::abs(o - offsets_[i]));
+  }
+
   int append(const Eigen::Vector2d& p, double offset, double weight) { return store(size_++, p, offset, weight); }
   int store(int slot, const Eigen::Vector2d& p, double offset, double weight)
   {
-    points_[slot] = p;
+    x_[slot] = p.x();
+    y_[slot] = p.y();
     offsets_[slot] = offset;
     weights_[slot] = weight;
     stamps_[slot] = clock_;
+    if (has_reference_)
+      addToBox(slot);
     moments_.add(p, weight);
     if (++changes_since_refresh_ >= 4096)
       refreshMoments();
@@ -262,10 +419,11 @@ private:
   /// Remove stored event `i` (the last one takes its slot).
   void removeAt(int i)
   {
-    moments_.add(points_[i], weights_[i], -1.0);
+    moments_.add(point(i), weights_[i], -1.0);
     ++changes_since_refresh_;
     --size_;
-    points_[i] = points_[size_];
+    x_[i] = x_[size_];
+    y_[i] = y_[size_];
     offsets_[i] = offsets_[size_];
     weights_[i] = weights_[size_];
     stamps_[i] = stamps_[size_];
@@ -276,17 +434,27 @@ private:
   {
     moments_ = PointMoments();
     for (int i = 0; i < size_; ++i)
-      moments_.add(points_[i], weights_[i]);
+      moments_.add(point(i), weights_[i]);
     changes_since_refresh_ = 0;
   }
 
-  std::vector<Eigen::Vector2d> points_;
+  std::vector<double> x_, y_;    ///< the stored events (ideal pixels)
   std::vector<double> offsets_;  ///< signed distance to the projected line when inserted
   std::vector<double> weights_;  ///< Huber weight fixed at insertion
   std::vector<uint64_t> stamps_;
+  std::vector<double> offset_now_, along_now_;  ///< per insert: each event's offset from / position along the line now
+  // The reference line and the box [s_lo_, s_hi_] x [o_lo_, o_hi_] holding every stored event
+  // in its frame (along ref_dir_ and ref_normal_ from ref_a_); the largest motion of an event
+  // between its insertion and the reference.
+  static constexpr double kBoundMarginPx = 1e-7;
+  bool has_reference_ = false;
+  Eigen::Vector2d ref_a_ = Eigen::Vector2d::Zero(), ref_dir_ = Eigen::Vector2d::UnitX(),
+                  ref_normal_ = Eigen::Vector2d::UnitY();
+  double s_lo_ = 0, s_hi_ = 0, o_lo_ = 0, o_hi_ = 0, motion_at_reference_ = 0;
   PointMoments moments_;
   int size_ = 0;
   int changes_since_refresh_ = 0;
   uint64_t clock_ = 0;
+  uint64_t examinations_ = 0;
 };
 }  // namespace dvs_line_tracker
