@@ -210,23 +210,7 @@ public:
     ++examinations_;
     placeOnLine(seg);
     if (expiring)
-    {
-      int moved = 0;
-      for (int i = 0; i < size_; ++i)
-        moved += std::abs(offset_now_[i] - offsets_[i]) > max_motion_px;
-      for (int i = 0; moved > 0 && i < size_;)
-      {
-        if (std::abs(offset_now_[i] - offsets_[i]) > max_motion_px)
-        {
-          removeAt(i);
-          offset_now_[i] = offset_now_[size_];
-          along_now_[i] = along_now_[size_];
-          --moved;
-        }
-        else
-          ++i;
-      }
-    }
+      dropMoved(max_motion_px);
     int slot;
     if (size_ < capacity())
       slot = append(p, offset_new, weight_new);
@@ -244,16 +228,12 @@ public:
   /// `max_motion_px` (along its normal, at the event) since they were inserted.
   void expire(const ProjectedSegment& seg, double max_motion_px)
   {
-    if (has_reference_ && motionBounded(seg, max_motion_px))
+    double c[3];
+    offsetCoefficients(seg, c);
+    if (has_reference_ && motionBounded(c, max_motion_px))
       return;
-    for (int i = 0; i < size_;)
-    {
-      const double offset = seg.normal.dot(point(i) - seg.a);
-      if (std::abs(offset - offsets_[i]) > max_motion_px)
-        removeAt(i);
-      else
-        ++i;
-    }
+    placeOnLine(seg);
+    dropMoved(max_motion_px);
     setReference(seg);
   }
 
@@ -274,6 +254,28 @@ private:
       const double vx = xs[i] - ax, vy = ys[i] - ay;
       offset[i] = nx * vx + ny * vy;
       along[i] = dx * vx + dy * vy;
+    }
+  }
+
+  /// Drop the stored events whose offset from the line (placeOnLine()) differs from their
+  /// offset at insertion by more than `max_motion_px`; the last event takes a dropped one's
+  /// slot (and is examined next).
+  void dropMoved(double max_motion_px)
+  {
+    int moved = 0;
+    for (int i = 0; i < size_; ++i)
+      moved += std::abs(offset_now_[i] - offsets_[i]) > max_motion_px;
+    for (int i = 0; moved > 0 && i < size_;)
+    {
+      if (std::abs(offset_now_[i] - offsets_[i]) > max_motion_px)
+      {
+        removeAt(i);
+        offset_now_[i] = offset_now_[size_];
+        along_now_[i] = along_now_[size_];
+        --moved;
+      }
+      else
+        ++i;
     }
   }
 
@@ -339,28 +341,36 @@ private:
   {
     // A point s ref_dir + o ref_normal from the reference's a lies c0 + c1 s + c2 o from the
     // current line and e0 + e1 s + e2 o along it from its a: linear, so extreme at the corners.
+    double c[3];
+    offsetCoefficients(seg, c);
     const Eigen::Vector2d da = ref_a_ - seg.a;
-    const double c0 = seg.normal.dot(da), c1 = seg.normal.dot(ref_dir_), c2 = seg.normal.dot(ref_normal_);
     const double e0 = seg.dir.dot(da), e1 = seg.dir.dot(ref_dir_), e2 = seg.dir.dot(ref_normal_);
     double lo, hi;
-    rangeOverBox(c0, c1, c2, &lo, &hi);
+    rangeOverBox(c[0], c[1], c[2], &lo, &hi);
     if (std::max(-lo, hi) > max_orthogonal_px - kBoundMarginPx)
       return false;
     rangeOverBox(e0, e1, e2, &lo, &hi);
     if (-lo > max_parallel_px - kBoundMarginPx || hi - seg.length > max_parallel_px - kBoundMarginPx)
       return false;
-    return max_motion_px >= 1e299 || motionBounded(seg, max_motion_px);
+    return max_motion_px >= 1e299 || motionBounded(c, max_motion_px);
+  }
+
+  /// The offset of a reference-frame point (s, o) from `seg`'s line is c[0] + c[1] s + c[2] o.
+  void offsetCoefficients(const ProjectedSegment& seg, double c[3]) const
+  {
+    c[0] = seg.normal.dot(ref_a_ - seg.a);
+    c[1] = seg.normal.dot(ref_dir_);
+    c[2] = seg.normal.dot(ref_normal_);
   }
 
   /// True when, by the reference box, no stored event can have moved farther than
-  /// `max_motion_px` from `seg`'s line since its insertion.
-  bool motionBounded(const ProjectedSegment& seg, double max_motion_px) const
+  /// `max_motion_px` since its insertion from the line whose offsetCoefficients() are `c`.
+  bool motionBounded(const double c[3], double max_motion_px) const
   {
     // Motion since insertion = (offset now - offset from the reference) + (offset from the
     // reference - offset at insertion); the second term is at most motion_at_reference_.
     double lo, hi;
-    rangeOverBox(seg.normal.dot(ref_a_ - seg.a), seg.normal.dot(ref_dir_), seg.normal.dot(ref_normal_) - 1.0, &lo,
-                 &hi);
+    rangeOverBox(c[0], c[1], c[2] - 1.0, &lo, &hi);
     return std::max(-lo, hi) + motion_at_reference_ <= max_motion_px - kBoundMarginPx;
   }
 
