@@ -212,6 +212,15 @@ std::string lineMapToYaml(const LineMap& map)
   return out.str();
 }
 
+Eigen::Vector3d frontNormal(const MapPolygon& poly)
+{
+  const auto& corners = poly.corners_world;
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();
+  for (size_t i = 0; i < corners.size(); ++i)
+    normal += corners[i].cross(corners[(i + 1) % corners.size()]);
+  return normal;
+}
+
 std::vector<Eigen::Isometry3d> lineMapSymmetries(const LineMap& map, double tolerance_m)
 {
   std::vector<Eigen::Isometry3d> out;
@@ -221,11 +230,8 @@ std::vector<Eigen::Isometry3d> lineMapSymmetries(const LineMap& map, double tole
   for (const auto& s : map.segments)
     centroid += s.p0_world + s.p1_world;
   centroid /= 2.0 * static_cast<double>(map.segments.size());
-  // The plane's normal (Newell's method on the first polygon), and every endpoint on it.
-  const auto& corners = map.polygons.front().corners_world;
-  Eigen::Vector3d normal = Eigen::Vector3d::Zero();
-  for (size_t i = 0; i < corners.size(); ++i)
-    normal += corners[i].cross(corners[(i + 1) % corners.size()]);
+  // The plane's normal (the first polygon's), and every endpoint on it.
+  Eigen::Vector3d normal = frontNormal(map.polygons.front());
   if (normal.norm() < 1e-12)
     return out;
   normal.normalize();

@@ -121,15 +121,11 @@ Pose poseFromCv(const cv::Matx33d& R, const double* t)
 /// Map polygons are listed counter-clockwise seen from the side they are viewed from.
 bool viewedFromFront(const MapPolygon& poly, const Pose& pose)
 {
-  const size_t n = poly.corners_world.size();
-  Eigen::Vector3d normal = Eigen::Vector3d::Zero(), centroid = Eigen::Vector3d::Zero();
-  for (size_t i = 0; i < n; ++i)
-  {
-    normal += poly.corners_world[i].cross(poly.corners_world[(i + 1) % n]);
-    centroid += poly.corners_world[i];
-  }
-  centroid /= static_cast<double>(n);
-  return normal.dot(pose.p_world_camera() - centroid) >= 0;
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  for (const auto& c : poly.corners_world)
+    centroid += c;
+  centroid /= static_cast<double>(poly.corners_world.size());
+  return frontNormal(poly).dot(pose.p_world_camera() - centroid) >= 0;
 }
 }  // namespace
 

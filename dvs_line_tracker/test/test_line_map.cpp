@@ -16,6 +16,11 @@ TEST(LineMap, DefaultSquareIsOneClosedPlanarPolygon)
   EXPECT_TRUE(map.polygons[0].planar);
   for (const auto& s : map.segments)
     EXPECT_NEAR((s.p1_world - s.p0_world).norm(), 0.9, 1e-12);
+  // Its front faces the camera (+z), the normal twice the area long.
+  const Eigen::Vector3d n = frontNormal(map.polygons[0]);
+  EXPECT_NEAR(n.x(), 0, 1e-12);
+  EXPECT_NEAR(n.y(), 0, 1e-12);
+  EXPECT_NEAR(n.z(), 2 * 0.81, 1e-12);
 }
 
 TEST(LineMap, YamlRoundTrip)

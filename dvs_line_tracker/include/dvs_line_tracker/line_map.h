@@ -33,6 +33,10 @@ struct MapPolygon
   bool planar = true;  ///< all corners within 1 mm of their best-fit plane
 };
 
+/// A polygon's normal by Newell's method (length twice its area when planar), pointing to its
+/// front: the side from which its corners run anticlockwise.
+Eigen::Vector3d frontNormal(const MapPolygon& poly);
+
 struct LineMap
 {
   std::string frame_id = "world";
