@@ -78,7 +78,8 @@ private:
   LatencySplit latency_;  ///< event -> pose published, in parts (with mutex_; diagnostics)
   // The queue has its own lock, never held for long: the callbacks only queue (they would
   // otherwise wait behind a packet being tracked and the backlog would pile up unseen in ROS's
-  // subscriber queue). Lock order: mutex_, then queue_mutex_.
+  // subscriber queue). Lock order: mutex_, then diagnostics_'s own lock (diagnostics are
+  // updated only with mutex_ held), then queue_mutex_.
   std::mutex queue_mutex_;
   std::condition_variable wake_;       ///< a packet or an IMU sample came, or stop (with queue_mutex_)
   std::deque<PendingPacket> pending_;  ///< event packets queued for the tracking thread

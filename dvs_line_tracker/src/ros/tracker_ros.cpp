@@ -63,7 +63,13 @@ TrackerRos::TrackerRos(ros::NodeHandle nh, ros::NodeHandle pnh)
 
   diagnostics_.setHardwareID("dvs_line_tracker");
   diagnostics_.add("tracker", this, &TrackerRos::diagnose);
-  diagnostics_timer_ = nh_.createTimer(ros::Duration(1.0), [this](const ros::TimerEvent&) { diagnostics_.update(); });
+  // The tracking thread updates the diagnostics with mutex_ held, and diagnose() takes mutex_
+  // inside the updater's own lock: the timer takes mutex_ first too (one lock order, see the
+  // header), or the two threads deadlock (each holding the lock the other waits for).
+  diagnostics_timer_ = nh_.createTimer(ros::Duration(1.0), [this](const ros::TimerEvent&) {
+    std::lock_guard<std::recursive_mutex> lock(mutex_);
+    diagnostics_.update();
+  });
 
   if (!settings_.calibration_file.empty())
   {
