@@ -26,6 +26,15 @@ int OverloadGovernor::strideFor(size_t queued_events)
   return stride;
 }
 
+bool OverloadGovernor::skipWholePacket(int stride, size_t events)
+{
+  if (stride <= 1 || packet_phase_++ % static_cast<uint64_t>(stride) == 0)
+    return false;
+  ++stats_.packets_skipped;
+  skipped(events);
+  return true;
+}
+
 void OverloadGovernor::tracked(size_t tracked, double seconds)
 {
   if (tracked == 0 || !(seconds >= 0))

@@ -68,3 +68,23 @@ TEST(OverloadGovernor, CountsWhatIsLeftOut)
   EXPECT_EQ(g.stats().packets_dropped, 1u);
   EXPECT_EQ(g.stats().events_dropped, 50u);
 }
+
+TEST(OverloadGovernor, WhileInitialisingEveryStrideThPacketIsTakenWhole)
+{
+  OverloadGovernor g;
+  // Stride 1: nothing skipped, and the packet phase does not move.
+  for (int i = 0; i < 5; ++i)
+    EXPECT_FALSE(g.skipWholePacket(1, 100));
+  // Stride 3: one packet of three taken, the same share of the events as every 3rd event.
+  int taken = 0;
+  for (int i = 0; i < 30; ++i)
+    taken += g.skipWholePacket(3, 100) ? 0 : 1;
+  EXPECT_EQ(taken, 10);
+  EXPECT_EQ(g.stats().packets_skipped, 20u);
+  EXPECT_EQ(g.stats().events_skipped, 2000u);  // counted with the events a stride leaves out
+  // The first packet at a stride is taken (a single packet is never lost).
+  OverloadGovernor h;
+  EXPECT_FALSE(h.skipWholePacket(64, 10));
+  EXPECT_TRUE(h.skipWholePacket(64, 10));
+  EXPECT_EQ(h.stats().events_skipped, 10u);
+}

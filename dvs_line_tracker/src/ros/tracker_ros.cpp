@@ -288,6 +288,16 @@ void TrackerRos::trackingLoop()
         continue;
       }
       stride = overload_.strideFor(pending_events_ + packet.msg->events.size());
+      // Initialising: whole packets or none (the detection needs dense edges).
+      if (tracker_ && tracker_->state() != TrackerState::kTracking && stride > 1)
+      {
+        if (overload_.skipWholePacket(stride, packet.msg->events.size()))
+        {
+          reportOverload();
+          continue;
+        }
+        stride = 1;
+      }
     }
     const dvs_msgs::EventArrayConstPtr& msg = packet.msg;
     const auto t0 = std::chrono::steady_clock::now();
@@ -385,9 +395,11 @@ void TrackerRos::reportOverload()
   if (o.events_skipped > skipped_reported_ || o.events_dropped > dropped_reported_)
   {
     ROS_WARN_THROTTLE(1.0,
-                      "dvs_line_tracker: falling behind the events: tracking every %d-th event (%llu skipped, "
-                      "%llu dropped with %llu packets over max_queued_events so far; overload_latency %.3f s)",
-                      o.last_stride, static_cast<unsigned long long>(o.events_skipped),
+                      "dvs_line_tracker: falling behind the events: tracking every %d-th event (every %d-th packet "
+                      "while initialising; %llu skipped, with %llu packets skipped whole; %llu dropped with %llu "
+                      "packets over max_queued_events so far; overload_latency %.3f s)",
+                      o.last_stride, o.last_stride, static_cast<unsigned long long>(o.events_skipped),
+                      static_cast<unsigned long long>(o.packets_skipped),
                       static_cast<unsigned long long>(o.events_dropped),
                       static_cast<unsigned long long>(o.packets_dropped), overload_.params().max_latency_s);
     skipped_reported_ = o.events_skipped;
@@ -575,6 +587,7 @@ void TrackerRos::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat)
   stat.add("overload: stride now (1: every event tracked)", o.last_stride);
   stat.add("overload: events skipped", o.events_skipped);
   stat.add("overload: packets tracked with a stride", o.packets_strided);
+  stat.add("overload: packets skipped whole while initialising", o.packets_skipped);
   stat.add("overload: packets dropped (max_queued_events)", o.packets_dropped);
   stat.add("overload: events dropped", o.events_dropped);
   if (o.events_skipped > skipped_at_diag_ || o.events_dropped > dropped_at_diag_)
