@@ -28,7 +28,12 @@ int OverloadGovernor::strideFor(size_t queued_events)
 
 bool OverloadGovernor::skipWholePacket(int stride, size_t events)
 {
-  if (stride <= 1 || packet_phase_++ % static_cast<uint64_t>(stride) == 0)
+  if (stride <= 1)
+    return false;
+  // Taken or skipped whole, the packet is not tracked with a stride (strideFor counted it).
+  if (stats_.packets_strided > 0)
+    --stats_.packets_strided;
+  if (packet_phase_++ % static_cast<uint64_t>(stride) == 0)
     return false;
   ++stats_.packets_skipped;
   skipped(events);

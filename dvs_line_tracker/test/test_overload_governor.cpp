@@ -82,6 +82,19 @@ TEST(OverloadGovernor, WhileInitialisingEveryStrideThPacketIsTakenWhole)
   EXPECT_EQ(taken, 10);
   EXPECT_EQ(g.stats().packets_skipped, 20u);
   EXPECT_EQ(g.stats().events_skipped, 2000u);  // counted with the events a stride leaves out
+  // A packet taken or skipped whole does not count as tracked with a stride.
+  OverloadParams p;
+  p.max_latency_s = 0.01;
+  OverloadGovernor s(p);
+  s.tracked(1000, 0.001);  // 1 us per event
+  ASSERT_EQ(s.strideFor(100000), 10);
+  EXPECT_EQ(s.stats().packets_strided, 1u);
+  EXPECT_FALSE(s.skipWholePacket(10, 1000));
+  EXPECT_EQ(s.stats().packets_strided, 0u);
+  ASSERT_EQ(s.strideFor(100000), 10);
+  EXPECT_TRUE(s.skipWholePacket(10, 1000));
+  EXPECT_EQ(s.stats().packets_strided, 0u);
+  EXPECT_EQ(s.stats().packets_skipped, 1u);
   // The first packet at a stride is taken (a single packet is never lost).
   OverloadGovernor h;
   EXPECT_FALSE(h.skipWholePacket(64, 10));

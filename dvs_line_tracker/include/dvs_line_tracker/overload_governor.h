@@ -43,8 +43,9 @@ public:
   /// While the tracker initialises, a stride thins out the very edges its detection needs
   /// (every 3rd-41st event of screen_sim.test's recordings gave false initialisations; whole
   /// packets none), so a packet with `stride` > 1 is taken whole or skipped whole instead:
-  /// every stride-th packet is taken, the same share of the events. True: skip this one
-  /// (counted with its `events`).
+  /// every stride-th packet is taken, the same share of the events. Call it after strideFor;
+  /// the packet then no longer counts as strided. True: skip this one (counted with its
+  /// `events`).
   bool skipWholePacket(int stride, size_t events);
   /// Count a packet dropped unprocessed (queue over max_queued_events).
   void dropped(size_t events)
