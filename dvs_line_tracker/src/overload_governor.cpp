@@ -10,7 +10,7 @@ namespace
 constexpr double kCostAlpha = 0.2;  // running mean of the cost over ~5 packets
 }
 
-int OverloadGovernor::strideFor(size_t queued_events)
+int OverloadGovernor::strideFor(size_t queued_events, bool whole_packets)
 {
   int stride = 1;
   if (params_.max_latency_s > 0 && seconds_per_event_ > 0)
@@ -21,19 +21,14 @@ int OverloadGovernor::strideFor(size_t queued_events)
   }
   stats_.last_stride = stride;
   stats_.max_stride_used = std::max(stats_.max_stride_used, stride);
-  if (stride > 1)
+  if (stride > 1 && !whole_packets)
     ++stats_.packets_strided;
   return stride;
 }
 
 bool OverloadGovernor::skipWholePacket(int stride, size_t events)
 {
-  if (stride <= 1)
-    return false;
-  // Taken or skipped whole, the packet is not tracked with a stride (strideFor counted it).
-  if (stats_.packets_strided > 0)
-    --stats_.packets_strided;
-  if (packet_phase_++ % static_cast<uint64_t>(stride) == 0)
+  if (stride <= 1 || packet_phase_++ % static_cast<uint64_t>(stride) == 0)
     return false;
   ++stats_.packets_skipped;
   skipped(events);

@@ -87,14 +87,15 @@ TEST(OverloadGovernor, WhileInitialisingEveryStrideThPacketIsTakenWhole)
   p.max_latency_s = 0.01;
   OverloadGovernor s(p);
   s.tracked(1000, 0.001);  // 1 us per event
-  ASSERT_EQ(s.strideFor(100000), 10);
-  EXPECT_EQ(s.stats().packets_strided, 1u);
+  ASSERT_EQ(s.strideFor(100000, true), 10);
   EXPECT_FALSE(s.skipWholePacket(10, 1000));
   EXPECT_EQ(s.stats().packets_strided, 0u);
-  ASSERT_EQ(s.strideFor(100000), 10);
+  ASSERT_EQ(s.strideFor(100000, true), 10);
   EXPECT_TRUE(s.skipWholePacket(10, 1000));
   EXPECT_EQ(s.stats().packets_strided, 0u);
   EXPECT_EQ(s.stats().packets_skipped, 1u);
+  ASSERT_EQ(s.strideFor(100000), 10);  // tracked with the stride: counted
+  EXPECT_EQ(s.stats().packets_strided, 1u);
   // The first packet at a stride is taken (a single packet is never lost).
   OverloadGovernor h;
   EXPECT_FALSE(h.skipWholePacket(64, 10));

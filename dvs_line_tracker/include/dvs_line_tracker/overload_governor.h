@@ -35,7 +35,9 @@ public:
   explicit OverloadGovernor(const OverloadParams& params = OverloadParams()) : params_(params) {}
 
   /// The stride for the next packet: `queued_events` are waiting, the next packet's included.
-  int strideFor(size_t queued_events);
+  /// `whole_packets`: the packet is taken or skipped whole (skipWholePacket) rather than tracked
+  /// with the stride, and is not counted as strided.
+  int strideFor(size_t queued_events, bool whole_packets = false);
   /// After a packet: `tracked` events went through the tracker in `seconds` (wall time).
   void tracked(size_t tracked, double seconds);
   /// Count the events a stride left out.
@@ -43,9 +45,8 @@ public:
   /// While the tracker initialises, a stride thins out the very edges its detection needs
   /// (every 3rd-41st event of screen_sim.test's recordings gave false initialisations; whole
   /// packets none), so a packet with `stride` > 1 is taken whole or skipped whole instead:
-  /// every stride-th packet is taken, the same share of the events. Call it after strideFor;
-  /// the packet then no longer counts as strided. True: skip this one (counted with its
-  /// `events`).
+  /// every stride-th packet is taken, the same share of the events (the stride from
+  /// strideFor(queued, true)). True: skip this one (counted with its `events`).
   bool skipWholePacket(int stride, size_t events);
   /// Count a packet dropped unprocessed (queue over max_queued_events).
   void dropped(size_t events)

@@ -287,9 +287,10 @@ void TrackerRos::trackingLoop()
         wake_.wait_for(q, std::chrono::milliseconds(100));
         continue;
       }
-      stride = overload_.strideFor(pending_events_ + packet.msg->events.size());
       // Initialising: whole packets or none (the detection needs dense edges).
-      if (tracker_ && tracker_->state() != TrackerState::kTracking && stride > 1)
+      const bool initialising = tracker_ && tracker_->state() != TrackerState::kTracking;
+      stride = overload_.strideFor(pending_events_ + packet.msg->events.size(), initialising);
+      if (initialising && stride > 1)
       {
         if (overload_.skipWholePacket(stride, packet.msg->events.size()))
         {
