@@ -228,10 +228,13 @@ public:
   /// `max_motion_px` (along its normal, at the event) since they were inserted.
   void expire(const ProjectedSegment& seg, double max_motion_px)
   {
-    double c[3];
-    offsetCoefficients(seg, c);
-    if (has_reference_ && motionBounded(c, max_motion_px))
-      return;
+    if (has_reference_)
+    {
+      double c[3];
+      offsetCoefficients(seg, c);
+      if (motionBounded(c, max_motion_px))
+        return;
+    }
     placeOnLine(seg);
     dropMoved(max_motion_px);
     setReference(seg);
