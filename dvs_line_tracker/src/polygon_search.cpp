@@ -73,6 +73,8 @@ public:
     chain_length_ = n;
     cos_min_ = std::cos(p.max_turn_angle_deg * M_PI / 180.0);
     cos_max_ = std::cos(p.min_turn_angle_deg * M_PI / 180.0);
+    cos_outside_min_ = std::cos(p.outside_max_turn_angle_deg * M_PI / 180.0);
+    cos_outside_max_ = std::cos(p.outside_min_turn_angle_deg * M_PI / 180.0);
     order_.resize(segs.size());
     std::iota(order_.begin(), order_.end(), 0);
     std::stable_sort(order_.begin(), order_.end(), [&](int a, int b) { return segs[a].length() > segs[b].length(); });
@@ -131,6 +133,21 @@ private:
     for (const auto& side : chain_)
       n += isBridge(side.id) ? 1 : 0;
     return n;
+  }
+
+  /// The complete chain turns outside [outside_min, outside_max] at one of its corners at least.
+  bool hasTurnOutside() const
+  {
+    if (p_.outside_min_turn_angle_deg <= 0.0 && p_.outside_max_turn_angle_deg >= 180.0)
+      return true;
+    const int corners = open_ ? chain_length_ - 1 : chain_length_;
+    for (int k = 0; k < corners; ++k)
+    {
+      const double c = chain_[k].dir().dot(chain_[(k + 1) % chain_length_].dir());
+      if (c < cos_outside_min_ || c > cos_outside_max_)
+        return true;
+    }
+    return false;
   }
 
   bool turnOk(const Oriented& a, const Oriented& b) const
@@ -240,7 +257,7 @@ private:
       return false;
     if (static_cast<int>(chain_.size()) == chain_length_)
     {
-      if ((first_bridge_ >= 0 && bridgesInChain() != 1) || !(open_ ? opens(out) : closes(out)))
+      if ((first_bridge_ >= 0 && bridgesInChain() != 1) || !hasTurnOutside() || !(open_ ? opens(out) : closes(out)))
         return false;
       if (!collect_)
         return true;
@@ -302,6 +319,7 @@ private:
   int n_;
   PolygonSearchParams p_;
   double cos_min_, cos_max_;
+  double cos_outside_min_, cos_outside_max_;
   std::vector<int> order_;
   std::vector<bool> used_;
   std::vector<Oriented> chain_;

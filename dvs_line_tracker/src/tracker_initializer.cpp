@@ -63,7 +63,8 @@ HoughParams scaledHough(const TrackingGeometry& g, const LineTrackerParams& p)
 std::string InitializerStats::json() const
 {
   const std::pair<const char*, uint64_t> fields[] = {
-      {"attempts", attempts},         {"full_hough_attempts", full_hough_attempts}, {"segments", segments},         {"polygons", polygons},
+      {"attempts", attempts},         {"full_hough_attempts", full_hough_attempts},
+      {"wide_turn_attempts", wide_turn_attempts}, {"segments", segments},         {"polygons", polygons},
       {"cut_by_border", cut_by_border}, {"pose_failed", pose_failed}, {"coverage_failed", coverage_failed}, {"unexplained", unexplained},
       {"ambiguous", ambiguous},       {"unconfirmed", unconfirmed},   {"declined", declined},
       {"accepted", accepted},         {"prior_attempts", prior_attempts}, {"prior_accepted", prior_accepted}};
@@ -209,24 +210,53 @@ bool TrackerInitializer::tryInitialize(const StartTracking& start)
   ++stats_.attempts;
   const RecentEvents recent = recentEvents();
   const bool progressive = params_.hough.remove_found_votes;
-  const Outcome o = trySegments(hough_.detectSegments(progressive), recent, start);
+  std::vector<ImageSegment> segments = detectSegments(progressive);
+  Outcome o = trySegments(segments, recent, start, params_.polygon);
   // Nothing to start from or to confirm: the full Hough finds what noise hid from the
   // progressive one (a noise event explained by a wrong segment no longer votes for the side).
   if (o == Outcome::kNext && progressive && params_.init_full_hough_fallback && hough_.numWindowEvents() > 0)
   {
     ++stats_.full_hough_attempts;
-    return trySegments(hough_.detectSegments(false), recent, start) == Outcome::kStarted;
+    segments = detectSegments(false);
+    o = trySegments(segments, recent, start, params_.polygon);
+  }
+  // Still nothing: the polygons only the wider turn bounds admit (a polygon seen at a steep
+  // angle, close, through a wide lens turns by 30-35 deg at its far corners). They come last so
+  // that they never displace a polygon of the usual bounds (ranked among those, slivers of
+  // real clutter came first).
+  if (o == Outcome::kNext && wideTurnsEnabled())
+  {
+    PolygonSearchParams wide = params_.polygon;
+    wide.min_turn_angle_deg = params_.polygon_wide_min_angle_deg;
+    wide.max_turn_angle_deg = params_.polygon_wide_max_angle_deg;
+    wide.outside_min_turn_angle_deg = params_.polygon.min_turn_angle_deg;
+    wide.outside_max_turn_angle_deg = params_.polygon.max_turn_angle_deg;
+    ++stats_.wide_turn_attempts;
+    o = trySegments(segments, recent, start, wide);
   }
   return o == Outcome::kStarted;
 }
 
-TrackerInitializer::Outcome TrackerInitializer::trySegments(std::vector<ImageSegment> segments,
-                                                            const RecentEvents& recent, const StartTracking& start)
+bool TrackerInitializer::wideTurnsEnabled() const
 {
+  return params_.polygon_wide_min_angle_deg < params_.polygon.min_turn_angle_deg ||
+         params_.polygon_wide_max_angle_deg > params_.polygon.max_turn_angle_deg;
+}
+
+std::vector<ImageSegment> TrackerInitializer::detectSegments(bool progressive)
+{
+  std::vector<ImageSegment> segments = hough_.detectSegments(progressive);
   segments.erase(std::remove_if(segments.begin(), segments.end(),
                                 [this](const ImageSegment& sg) { return alongBorder(sg); }),
                  segments.end());
   stats_.segments += segments.size();
+  return segments;
+}
+
+TrackerInitializer::Outcome TrackerInitializer::trySegments(const std::vector<ImageSegment>& segments,
+                                                            const RecentEvents& recent, const StartTracking& start,
+                                                            const PolygonSearchParams& search)
+{
   // The polygons of the detected segments first, then those that need a segment split where
   // another one meets it (collinear sides of neighbouring polygons detected as one segment).
   // Sides that reach the image border may meet beyond it (a corner out of view).
@@ -235,12 +265,12 @@ TrackerInitializer::Outcome TrackerInitializer::trySegments(std::vector<ImageSeg
   const ImageView view{static_cast<double>(geometry_.width), static_cast<double>(geometry_.height), border};
   std::vector<ImagePolygon> polygons;
   for (int sides : side_counts_)
-    for (ImagePolygon& polygon : findPolygons(segments, sides, params_.polygon, 8, 0, view))
+    for (ImagePolygon& polygon : findPolygons(segments, sides, search, 8, 0, view))
       polygons.push_back(std::move(polygon));
-  const std::vector<ImageSegment> split = splitAtJunctions(segments, params_.polygon);
+  const std::vector<ImageSegment> split = splitAtJunctions(segments, search);
   if (split.size() > segments.size())
     for (int sides : side_counts_)
-      for (ImagePolygon& polygon : findPolygons(split, sides, params_.polygon, 8, kSearchPolygons, view))
+      for (ImagePolygon& polygon : findPolygons(split, sides, search, 8, kSearchPolygons, view))
         if (std::none_of(polygons.begin(), polygons.end(), [&](const ImagePolygon& q) { return sameCorners(q, polygon); }))
           polygons.push_back(std::move(polygon));
   for (const ImagePolygon& polygon : polygons)
@@ -254,7 +284,7 @@ TrackerInitializer::Outcome TrackerInitializer::trySegments(std::vector<ImageSeg
   // The open polygons of `searched` (with `first_bridge` >= 0: each using one of its bridges).
   auto tryOpenPolygons = [&](const std::vector<ImageSegment>& searched, int first_bridge) {
     for (int sides : side_counts_)
-      for (const ImagePolygon& polygon : findOpenPolygons(searched, sides, params_.polygon, geometry_.width,
+      for (const ImagePolygon& polygon : findOpenPolygons(searched, sides, search, geometry_.width,
                                                           geometry_.height, border, 8, first_bridge))
       {
         const Outcome o = tryPolygon(polygon, recent, start);
@@ -269,7 +299,7 @@ TrackerInitializer::Outcome TrackerInitializer::trySegments(std::vector<ImageSeg
   // Then open polygons with an inner side too weak to be detected (parallel to the motion),
   // bridged between the inner ends of its neighbours.
   const std::vector<ImageSegment> bridged =
-      bridgeBorderSegments(split, params_.polygon, geometry_.width, geometry_.height, border);
+      bridgeBorderSegments(split, search, geometry_.width, geometry_.height, border);
   if (bridged.size() > split.size())
     o = tryOpenPolygons(bridged, static_cast<int>(split.size()));
   return o;

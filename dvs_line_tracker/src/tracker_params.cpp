@@ -65,6 +65,10 @@ dvs_driver::ParamTable trackerParamTable(LineTrackerParams& p, std::string& solv
            "and the camera must roll slower than this between the confirming detections (the map's up assumes near upright)");
   t.add("polygon_min_angle_deg", p.polygon.min_turn_angle_deg, "deg", 0, 180, "turn between neighbouring sides, at least");
   t.add("polygon_max_angle_deg", p.polygon.max_turn_angle_deg, "deg", 0, 180, "turn between neighbouring sides, at most");
+  t.add("polygon_wide_min_angle_deg", p.polygon_wide_min_angle_deg, "deg", 0, 180,
+        "when no polygon within the turn bounds above starts tracking, polygons turning down to this are tried too (steep views, wide lenses)");
+  t.add("polygon_wide_max_angle_deg", p.polygon_wide_max_angle_deg, "deg", 0, 180,
+        "and up to this (equal to the bounds above: off)");
   positive("polygon_corner_proximity_ratio", p.polygon.corner_proximity_ratio, "", kInf,
            "side end to corner, at most this fraction of the two sides' summed lengths");
   positive("polygon_min_side_px", p.polygon.min_side_px, "px", kInf, "shortest accepted side");
@@ -138,6 +142,14 @@ dvs_driver::ParamTable trackerParamTable(LineTrackerParams& p, std::string& solv
     return p.polygon.min_turn_angle_deg < p.polygon.max_turn_angle_deg
                ? ""
                : "polygon_min_angle_deg must be < polygon_max_angle_deg";
+  });
+  t.addRule([&p]() -> std::string {
+    return p.polygon_wide_min_angle_deg <= p.polygon.min_turn_angle_deg &&
+                   p.polygon_wide_max_angle_deg >= p.polygon.max_turn_angle_deg
+               ? ""
+               : "polygon_wide_min_angle_deg must be <= polygon_min_angle_deg and polygon_wide_max_angle_deg >= "
+                 "polygon_max_angle_deg (got " + std::to_string(p.polygon_wide_min_angle_deg) + " / " +
+                 std::to_string(p.polygon_wide_max_angle_deg) + ")";
   });
   t.addRule([&p]() -> std::string {
     return p.edge_offset_px < p.attribution.max_orthogonal_px

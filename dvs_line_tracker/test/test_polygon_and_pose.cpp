@@ -101,6 +101,39 @@ TEST(PolygonSearch, RejectsOpenChainsBadAnglesAndTinyPolygons)
   EXPECT_TRUE(findPolygon(sidesOf({{20, 20}, {80, 20}, {80, 80}, {20, 80}}, 6), 4, PolygonSearchParams(), poly));
 }
 
+TEST(PolygonSearch, WideTurnBoundsFindOnlyWhatTheUsualBoundsCannot)
+{
+  // A rhombus turning by 30 and 150 deg (a square seen steeply), and beside it an ordinary
+  // square: the usual 45..135 deg bounds find only the square; bounds of 25..155 deg that must
+  // turn outside 45..135 somewhere find only the rhombus; 25..155 alone finds both.
+  const double s = 60, a = 30 * M_PI / 180;
+  const Eigen::Vector2d p0(10, 60), p1 = p0 + Eigen::Vector2d(s, 0), p3 = p0 + s * Eigen::Vector2d(std::cos(a), -std::sin(a)),
+                        p2 = p1 + (p3 - p0);
+  std::vector<ImageSegment> segs = sidesOf({p0, p1, p2, p3}, 4);
+  for (const auto& side : sidesOf({{140, 20}, {200, 20}, {200, 80}, {140, 80}}, 4))
+    segs.push_back(side);
+  const PolygonSearchParams usual;
+  PolygonSearchParams wide_only = usual;
+  wide_only.min_turn_angle_deg = 25;
+  wide_only.max_turn_angle_deg = 155;
+  PolygonSearchParams wide = wide_only;
+  wide_only.outside_min_turn_angle_deg = usual.min_turn_angle_deg;
+  wide_only.outside_max_turn_angle_deg = usual.max_turn_angle_deg;
+  auto centreX = [](const ImagePolygon& poly) {
+    double x = 0;
+    for (const auto& c : poly.corners)
+      x += c.x() / poly.corners.size();
+    return x;
+  };
+  const auto found_usual = findPolygons(segs, 4, usual, 8);
+  ASSERT_EQ(found_usual.size(), 1u);
+  EXPECT_NEAR(centreX(found_usual[0]), 170, 1e-6);
+  const auto found_wide_only = findPolygons(segs, 4, wide_only, 8);
+  ASSERT_EQ(found_wide_only.size(), 1u);
+  EXPECT_NEAR(centreX(found_wide_only[0]), ((p0 + p1 + p2 + p3) / 4).x(), 1e-6);
+  EXPECT_EQ(findPolygons(segs, 4, wide, 8).size(), 2u);
+}
+
 TEST(PolygonSearch, FindsTrianglesAndPentagonsOfGeneralMaps)
 {
   PolygonSearchParams p;

@@ -110,6 +110,19 @@ TEST(StartAnywhere, KeepsTheTrackWhenTheCameraPauses)
 // off; every pose of a several-polygon map must now explain half the window's events.
 TEST(StartAnywhere, PairNotTakenForTheOtherSquare) { expectStartsAndTracks(sweepScene(76), 0.35, 0.97, 0.02); }
 
+// A square tilted 60 deg, 0.60 m from a 97 deg lens on 346x260 (k1 -0.03), slow, part of it out
+// of view (scene 78): its far corners turn by 33-34 deg, outside the usual 45-135 deg bounds,
+// so no pose at all before the wide-turn pass (polygon_wide_min/max_angle_deg).
+TEST(StartAnywhere, SteepSquareCloseToAWideLens)
+{
+  expectStartsAndTracks(sweepScene(78));
+  // Without the wide-turn pass: no pose at all.
+  LineTrackerParams usual_only;
+  usual_only.polygon_wide_min_angle_deg = usual_only.polygon.min_turn_angle_deg;
+  usual_only.polygon_wide_max_angle_deg = usual_only.polygon.max_turn_angle_deg;
+  EXPECT_LT(runSweepScene(buildSweepScene(sweepScene(78)), usual_only).first_pose_s, 0.0);
+}
+
 // A grey square tilted 60 deg at 0.96 m on 640x480 (78 deg, k1 -0.17), a corner 260 px below the
 // image before a 2000 deg/s flip (scene 107): the two sides meeting there run out of view
 // 210 px apart, too far from their corner for the gap rule (no pose at all before). Its first

@@ -87,6 +87,14 @@ TEST(TrackerParams, CrossParameterRules)
   p.polygon.min_turn_angle_deg = 120;
   p.polygon.max_turn_angle_deg = 100;
   EXPECT_NE(validateParams(p).find("polygon_min_angle_deg must be < polygon_max_angle_deg"), std::string::npos);
+  // The wide turn bounds must contain the usual ones (equal: the wide pass is off).
+  LineTrackerParams w;
+  EXPECT_EQ(validateParams(w), "");
+  w.polygon_wide_min_angle_deg = 50;
+  EXPECT_NE(validateParams(w).find("polygon_wide_min_angle_deg must be <= polygon_min_angle_deg"), std::string::npos);
+  w.polygon_wide_min_angle_deg = w.polygon.min_turn_angle_deg;
+  w.polygon_wide_max_angle_deg = w.polygon.max_turn_angle_deg;
+  EXPECT_EQ(validateParams(w), "");
 }
 
 TEST(TrackerParams, YamlUsesTheTableAndTheSolverName)

@@ -21,6 +21,11 @@ struct PolygonSearchParams
   double corner_proximity_ratio = 1.0 / 3.0;  ///< a side end to its corner (the lines' intersection), at most this fraction of the two sides' summed lengths
   double min_side_px = 20.0;              ///< shortest accepted side (corner to corner)
   int max_steps = 20000;                  ///< search budget (chain extensions)
+  /// Only polygons with at least one turn outside [outside_min, outside_max] deg (the default
+  /// 0 / 180: every polygon). A search with wider turn bounds then finds only the polygons a
+  /// search with the bounds [outside_min, outside_max] could not.
+  double outside_min_turn_angle_deg = 0.0;
+  double outside_max_turn_angle_deg = 180.0;
 };
 
 struct ImagePolygon

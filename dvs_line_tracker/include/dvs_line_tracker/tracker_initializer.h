@@ -33,6 +33,7 @@ struct InitializerStats
 {
   uint64_t attempts = 0;              ///< detections run on the Hough window
   uint64_t full_hough_attempts = 0;   ///< attempts that also ran the full Hough (init_full_hough_fallback)
+  uint64_t wide_turn_attempts = 0;    ///< attempts that also searched polygons with turns only the wide bounds admit (polygon_wide_*_angle_deg)
   uint64_t segments = 0;              ///< segments found (summed over attempts)
   uint64_t polygons = 0;              ///< image polygons assembled
   uint64_t cut_by_border = 0;         ///< polygons with a corner at or beyond the image border (partial views; still tried)
@@ -105,8 +106,14 @@ private:
   /// Hypotheses from `polygon` (one per map polygon of its side count), validated, ranked and
   /// confirmed; starts tracking from the winner.
   Outcome tryPolygon(const ImagePolygon& polygon, const RecentEvents& recent, const StartTracking& start);
-  /// The polygons of the detected `segments` (border segments dropped), tried in turn.
-  Outcome trySegments(std::vector<ImageSegment> segments, const RecentEvents& recent, const StartTracking& start);
+  /// The polygons (closed, then open, then bridged) of `segments` under the turn bounds of
+  /// `search`, each tried as a hypothesis.
+  Outcome trySegments(const std::vector<ImageSegment>& segments, const RecentEvents& recent,
+                      const StartTracking& start, const PolygonSearchParams& search);
+  /// The Hough window's segments (progressive or full), those along the image border removed.
+  std::vector<ImageSegment> detectSegments(bool progressive);
+  /// The wide turn bounds reach beyond polygon_min/max_angle_deg.
+  bool wideTurnsEnabled() const;
   Pose refineWithWindowEvents(const Pose& initial, const RecentEvents& recent) const;
   struct Coverage
   {

@@ -18,6 +18,12 @@ struct LineTrackerParams
 {
   HoughParams hough;
   PolygonSearchParams polygon;
+  /// When no polygon within polygon.min/max_turn_angle_deg starts tracking in a detection
+  /// attempt, the polygons with a turn between these wider bounds and the usual ones are tried
+  /// (a square tilted by 60 deg, close to a wide lens, turns by 30-35 deg at its far corners).
+  /// Equal to the usual bounds: off.
+  double polygon_wide_min_angle_deg = 25.0;
+  double polygon_wide_max_angle_deg = 155.0;
   PoseInitParams init;
   AttributionParams attribution;
   PoseEstimatorParams estimator;
