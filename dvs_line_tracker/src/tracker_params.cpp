@@ -56,6 +56,9 @@ dvs_driver::ParamTable trackerParamTable(LineTrackerParams& p, std::string& solv
   t.add("init_min_coverage", p.init_min_coverage, "", 0, 1, "each visible side this much covered by window events");
   t.add("init_border_margin_px", p.init_border_margin_px, "px", 0, 100, "segments and corners this close to the border are ignored");
   t.add("init_max_inside_ratio", p.init_max_inside_ratio, "", 0, kInf, "events inside the polygon / events on its sides, at most");
+  t.add("init_max_surrounding_coverage", p.init_max_surrounding_coverage, "", 0, 1,
+        "covered fraction of the strips beside the sides (3 attribution distances away, each side's quieter one), "
+        "at most; 1: no limit");
   t.add("init_confirmations", p.init_confirmations, "", 0, 4, "earlier agreeing detections (of the last 4) needed");
   positive("init_confirm_position_ratio", p.init_confirm_position_ratio, "", kInf, "agreement: position difference / distance");
   positive("init_confirm_angle_deg", p.init_confirm_angle_deg, "deg", 180, "agreement: orientation difference");

@@ -119,10 +119,12 @@ private:
   {
     double min_fraction = 0;   ///< smallest covered fraction over the visible map segments
     double covered_px = 0;     ///< covered length summed over them (the evidence the pose explains)
+    double surrounding = 0;    ///< covered fraction of the strips beside the sides, on each side's quieter side
   };
   /// Per visible map segment, the fraction of 3 px cells along it holding a recent voted event
   /// within the attribution distance (min_fraction 0 when fewer than min_visible_segments are
-  /// visible or a polygon's inside is busy).
+  /// visible, a polygon's inside is busy, or the strips beside the sides are nearly as covered:
+  /// init_max_surrounding_coverage).
   Coverage sideCoverage(const Pose& pose, const RecentEvents& recent) const;
   /// A hypothesis is valid when covered at least kWeakCoverageRatio of init_min_coverage (weak
   /// below init_min_coverage itself).

@@ -96,6 +96,7 @@ struct LineTrackerParams
   /// detections): mid-flip, the camera need not be near upright.
   double init_max_roll_rate_deg_s = 500.0;
   double init_max_inside_ratio = 0.3; ///< window events well inside the polygon / events on its sides, upper bound
+  double init_max_surrounding_coverage = 0.4; ///< covered fraction of the strips 3 attribution distances beside each side (its quieter side), upper bound (1: no limit)
   // Tracking-quality monitoring.
   int quality_check_interval = 512;  ///< events between quality checks while tracking
   int min_visible_segments = 3;      ///< fewer visible (>= min_visible_length_px inside the image) -> lost
