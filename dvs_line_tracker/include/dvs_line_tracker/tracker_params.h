@@ -46,7 +46,7 @@ struct LineTrackerParams
   /// Damping while part of the map is outside the image (fewer, shorter lines constrain the
   /// pose); `estimator.damping` otherwise. Updated at every quality check.
   double damping_partial_view = 1.0;
-  int buffer_size = 40;              ///< events per segment buffer (thesis: 8; with the motion bound, 40 measured most accurate, BENCHMARKS.md)
+  int buffer_size = 35;              ///< events per segment buffer (thesis: 8; 35 measured most accurate with the motion bound and the later initialiser, BENCHMARKS.md 2026-11-26)
   /// The pose is solved once per this many attributed events; the events in between are
   /// attributed and buffered against the last solved pose, which they report. 1: every event
   /// (the thesis). Larger: faster (BENCHMARKS.md: 4 gives 1.4-1.8x), accuracy per sequence.
