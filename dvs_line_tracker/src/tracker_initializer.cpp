@@ -88,6 +88,10 @@ TrackerInitializer::TrackerInitializer(const TrackingGeometry& geometry, const L
   , refine_events_(params.init_refine_events > 0 ? scaled(params.init_refine_events, scale_) : 0)
   , symmetries_(lineMapSymmetries(geometry.map))
 {
+  // The window's events span the window's time, over which an edge moves: they are attributed
+  // at the Hough's distance, not at the tracker's (which attributes each event at its time).
+  window_attribution_ = params.attribution;
+  window_attribution_.max_orthogonal_px = params.hough.attribution_distance_px;
   for (const auto& s : geometry.map.segments)
   {
     map_points_.push_back(s.p0_world);
@@ -550,7 +554,7 @@ Pose TrackerInitializer::refineWithWindowEvents(const Pose& initial, const Recen
     for (const auto& p : points)
     {
       int segs[2];
-      const int m = attributeEvent(p, proj.data(), static_cast<int>(n), params_.attribution, segs);
+      const int m = attributeEvent(p, proj.data(), static_cast<int>(n), window_attribution_, segs);
       for (int j = 0; j < m; ++j)
         buffers[segs[j]].insert(p, proj[segs[j]], 1e300, 1e300, 1e300, params_.estimator.huber_px);
     }
@@ -594,7 +598,7 @@ double TrackerInitializer::explainedFraction(const Pose& pose, const RecentEvent
   size_t explained = 0;
   for (const auto& p : recent.window)
     for (const auto& ps : projected)
-      if (ps.orthogonalDistance(p) <= params_.attribution.max_orthogonal_px && ps.parallelDistance(p) <= 0)
+      if (ps.orthogonalDistance(p) <= window_attribution_.max_orthogonal_px && ps.parallelDistance(p) <= 0)
       {
         ++explained;
         break;
@@ -612,7 +616,7 @@ TrackerInitializer::Coverage TrackerInitializer::sideCoverage(const Pose& pose, 
   // be outside the image (a partial view) as long as enough sides are in view.
   const std::vector<Eigen::Vector2d>& points = recent.evidence;
   constexpr double kCell = 3.0;
-  const double d_max = params_.attribution.max_orthogonal_px;
+  const double d_max = window_attribution_.max_orthogonal_px;
   const double shift = kSurroundingShift * d_max;
   double worst = 1.0;
   int visible = 0;
@@ -690,9 +694,9 @@ TrackerInitializer::Coverage TrackerInitializer::sideCoverage(const Pose& pose, 
         if (sd.parallelDistance(p) < 0)
           nearest = std::min(nearest, std::abs(d));
       }
-      if (nearest <= params_.attribution.max_orthogonal_px)
+      if (nearest <= window_attribution_.max_orthogonal_px)
         ++on_sides;
-      else if ((sign_pos == 0 || sign_neg == 0) && nearest > 2 * params_.attribution.max_orthogonal_px)
+      else if ((sign_pos == 0 || sign_neg == 0) && nearest > 2 * window_attribution_.max_orthogonal_px)
         ++inside;
     }
     if (inside > params_.init_max_inside_ratio * std::max(on_sides, 1))

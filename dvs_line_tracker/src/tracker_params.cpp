@@ -25,7 +25,8 @@ dvs_driver::ParamTable trackerParamTable(LineTrackerParams& p, std::string& solv
   t.add("hough_radius_bin_px", p.hough.radius_bin_px, "px", 0.1, 100, "Hough radius bin (thesis 2.5)");
   t.add("hough_threshold", p.hough.vote_threshold, "events", 1, 1000000, "votes for a line candidate");
   positive("hough_attribution_distance_px", p.hough.attribution_distance_px, "px", kInf,
-           "events this close belong to a candidate line");
+           "events this close belong to a candidate line; the initialiser's refinement and validation attribute the "
+           "window's events at this distance too");
   positive("segment_max_gap_px", p.hough.max_gap_px, "px", kInf, "a larger gap splits a segment");
   positive("segment_min_length_px", p.hough.min_segment_length_px, "px", kInf, "shorter segments are dropped");
   t.add("segment_min_events", p.hough.min_segment_events, "events", 1, 1000000, "segments with fewer are dropped");
@@ -78,7 +79,7 @@ dvs_driver::ParamTable trackerParamTable(LineTrackerParams& p, std::string& solv
   positive("init_max_reprojection_px", p.init.max_reprojection_rms_px, "px", kInf, "corner reprojection RMS, at most");
   t.add("init_refine", p.init.refine, "Ceres refinement of the corners' reprojection error");
   // Tracking (thesis 4.2.2).
-  positive("max_orthogonal_distance_px", p.attribution.max_orthogonal_px, "px", kInf, "attribution distance to a segment (thesis 2)");
+  positive("max_orthogonal_distance_px", p.attribution.max_orthogonal_px, "px", kInf, "attribution distance of an event to a segment while tracking (thesis 2)");
   t.add("max_parallel_distance_px", p.attribution.max_parallel_px, "px", 0, kInf, "beyond a segment's ends (thesis 10)");
   t.add("edge_run_model", p.edge_run_model, "place events where the pixel's integrated log level puts the edge");
   t.add("contrast_threshold", p.contrast_threshold, "log intensity", 0, 2, "the sensor's C (0: learned)");

@@ -137,6 +137,23 @@ TEST(StartAnywhere, NoStartFromAPolygonDrawnInABlobOfEvents)
   EXPECT_GT(runSweepScene(scene, unlimited).false_initializations, 0);
 }
 
+// The initialiser attributes the Hough window's events (spread over the window's time) at the
+// Hough's distance, whatever the tracker's attribution distance for single events: a tighter
+// max_orthogonal_distance_px changes nothing before the first pose (scene 76, a pair of squares).
+TEST(StartAnywhere, InitialisationIgnoresTheTrackersAttributionDistance)
+{
+  const SweepScene scene = buildSweepScene(sweepScene(76));
+  const SweepResult usual = runSweepScene(scene, LineTrackerParams());
+  LineTrackerParams tight;
+  tight.attribution.max_orthogonal_px = 1.5;
+  const SweepResult r = runSweepScene(scene, tight);
+  ASSERT_GT(usual.first_pose_s, 0.0);
+  EXPECT_EQ(r.first_pose_s, usual.first_pose_s);
+  EXPECT_TRUE(r.first_pose_correct);
+  EXPECT_EQ(r.init_stats.attempts, usual.init_stats.attempts);
+  EXPECT_EQ(r.init_stats.polygons, usual.init_stats.polygons);
+}
+
 // A grey square tilted 60 deg at 0.96 m on 640x480 (78 deg, k1 -0.17), a corner 260 px below the
 // image before a 2000 deg/s flip (scene 107): the two sides meeting there run out of view
 // 210 px apart, too far from their corner for the gap rule (no pose at all before). Its first

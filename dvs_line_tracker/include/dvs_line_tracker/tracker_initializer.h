@@ -149,6 +149,7 @@ private:
   double scale_;                   ///< sensor scale of the event counts and gaps (1 for 128x128)
   HoughLineDetector hough_;
   int check_interval_, min_events_, refine_events_;
+  AttributionParams window_attribution_;  ///< the window events' attribution (hough_attribution_distance_px)
   std::vector<int> side_counts_;   ///< distinct side counts of the map's polygons
   std::vector<Eigen::Isometry3d> symmetries_;  ///< lineMapSymmetries of the map
   std::vector<Eigen::Vector3d> map_points_;    ///< every map segment's endpoints (the map's up score)
