@@ -645,7 +645,10 @@ TrackerInitializer::Coverage TrackerInitializer::sideCoverage(const Pose& pose, 
       if (t < 0 || t >= len)
         continue;
       const double d = ps.normal.dot(p - ps.a);
-      const unsigned char bit = std::abs(d) <= d_max ? 1 : std::abs(d - shift) <= d_max ? 2 : std::abs(d + shift) <= d_max ? 4 : 0;
+      const unsigned char bit = std::abs(d) <= d_max           ? 1
+                                : std::abs(d - shift) <= d_max ? 2
+                                : std::abs(d + shift) <= d_max ? 4
+                                                               : 0;
       if (bit)
         filled[std::min(cells - 1, static_cast<int>(t / len * cells))] |= bit;
     }
@@ -668,8 +671,7 @@ TrackerInitializer::Coverage TrackerInitializer::sideCoverage(const Pose& pose, 
   // flip's smear) is covered wherever it is drawn, and so are the strips beside its sides. On the
   // 192-scene sweep the correct starts' quieter strips held at most 0.27 of their cells, the
   // false polygons drawn in such a blob 0.65-0.83.
-  result.surrounding = total_cells > 0 ? surrounding_cells / total_cells : 0;
-  if (result.surrounding > params_.init_max_surrounding_coverage)
+  if (total_cells > 0 && surrounding_cells / total_cells > params_.init_max_surrounding_coverage)
     return result;
   // A polygon's inside is quiet; a "polygon" cut out of a band of smeared events is not.
   for (const auto& poly : map.polygons)

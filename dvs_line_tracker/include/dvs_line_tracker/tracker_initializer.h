@@ -119,7 +119,6 @@ private:
   {
     double min_fraction = 0;   ///< smallest covered fraction over the visible map segments
     double covered_px = 0;     ///< covered length summed over them (the evidence the pose explains)
-    double surrounding = 0;    ///< covered fraction of the strips beside the sides, on each side's quieter side
   };
   /// Per visible map segment, the fraction of 3 px cells along it holding a recent voted event
   /// within the attribution distance (min_fraction 0 when fewer than min_visible_segments are
