@@ -58,12 +58,14 @@ TEST(TrackerParams, TableNamesTheBadParameterAndItsBounds)
   p.min_unattributed_structure = 1.5;
   p.init_min_up_margin = -0.1;
   p.init_max_roll_rate_deg_s = 0;
+  p.init_max_surrounding_coverage = 1.5;
   const std::string err = validateParams(p);
   EXPECT_NE(err.find("buffer_size must be in [2, 1024] events (got 1)"), std::string::npos) << err;
   EXPECT_NE(err.find("hough_radius_bin_px must be in [0.1, 100] px"), std::string::npos) << err;
   EXPECT_NE(err.find("min_unattributed_structure must be in [0, 1]"), std::string::npos) << err;
   EXPECT_NE(err.find("init_min_up_margin must be in [0, 2]"), std::string::npos) << err;
   EXPECT_NE(err.find("init_max_roll_rate must be"), std::string::npos) << err;
+  EXPECT_NE(err.find("init_max_surrounding_coverage must be in [0, 1] (got 1.5)"), std::string::npos) << err;
   EXPECT_THROW(LineTracker(dvs_calibration::CameraModel::dvs128(), defaultSquareMap(), p), std::invalid_argument);
 }
 
