@@ -67,6 +67,7 @@ HoughParams scaledHough(const TrackingGeometry& g, const LineTrackerParams& p)
 std::string InitializerStats::json() const
 {
   const std::pair<const char*, uint64_t> fields[] = {
+      {"events", events},             {"events_voted", events_voted},
       {"attempts", attempts},         {"full_hough_attempts", full_hough_attempts},
       {"wide_turn_attempts", wide_turn_attempts}, {"segments", segments},         {"polygons", polygons},
       {"cut_by_border", cut_by_border}, {"pose_failed", pose_failed}, {"coverage_failed", coverage_failed}, {"unexplained", unexplained},
@@ -76,6 +77,32 @@ std::string InitializerStats::json() const
   for (const auto& f : fields)
     out += std::string(out.size() > 1 ? ", " : "") + "\"" + f.first + "\": " + std::to_string(f.second);
   return out + "}";
+}
+
+std::string InitializerStats::noPoseReason() const
+{
+  if (events == 0)
+    return "no events reached the initialiser";
+  const std::string voted = std::to_string(events_voted) + " of " + std::to_string(events) + " events (" +
+                            std::to_string(static_cast<int>(std::lround(100.0 * events_voted / events))) +
+                            " %) passed the neighbour filter";
+  // Below a tenth of the events, or too few for a single detection: most events are isolated
+  // (noise) and the map's edges fire too sparsely to stand out (8 of the 12 scenes of the
+  // 192-scene sweep that never start vote 3-9 % of their events).
+  if (attempts == 0 || events_voted * 10 < events)
+    return voted + " and " + std::to_string(attempts) +
+           " detection attempts ran: most events are isolated (noise) and the map's edges fire too sparsely to "
+           "stand out (slow motion, low contrast or a far target: move the camera, or come closer)";
+  std::string why;
+  if (polygons == 0)
+    why = "no image polygon with the map's side counts among the " + std::to_string(segments) +
+          " segments found (is the map right and its target whole, or all but one side, in view?)";
+  else
+    why = std::to_string(polygons) + " image polygons: " + std::to_string(pose_failed) + " gave no pose, " +
+          std::to_string(coverage_failed) + " were not backed by events along every visible map edge, " +
+          std::to_string(unexplained) + " left most events unexplained, " + std::to_string(ambiguous) +
+          " ambiguous, " + std::to_string(unconfirmed) + " unconfirmed (is the map right, the target in view and moving?)";
+  return voted + ", " + std::to_string(attempts) + " detection attempts: " + why;
 }
 
 TrackerInitializer::TrackerInitializer(const TrackingGeometry& geometry, const LineTrackerParams& params)
@@ -159,8 +186,10 @@ bool TrackerInitializer::tryPrior(const StartTracking& start)
 
 bool TrackerInitializer::addEvent(const Eigen::Vector2d& p, const dvs_driver::Event& e, const StartTracking& start)
 {
+  ++stats_.events;
   if (!hough_.addEvent(static_cast<float>(p.x()), static_cast<float>(p.y()), e.x, e.y, e.t_ns))
     return false;
+  ++stats_.events_voted;
   ++voted_since_check_;
   if (hough_.numWindowEvents() < min_events_ || voted_since_check_ < check_interval_ ||
       e.t_ns - last_check_ns_ < static_cast<int64_t>(params_.init_min_check_period_s * 1e9))

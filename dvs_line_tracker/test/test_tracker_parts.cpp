@@ -387,3 +387,79 @@ TEST(LineTracker, EventsOutsideTheSensorAreCounted)
   EXPECT_FALSE(tracker.processEvent(e));
   EXPECT_EQ(tracker.stats().events_outside_sensor, 2u);
 }
+
+TEST(LineTracker, NoPoseOnIsolatedNoiseSaysTheEventsDoNotPassTheNeighbourFilter)
+{
+  // Uniform background activity (no target): few events have two neighbours that fired among
+  // the latest 500, so few vote, and the reason for no pose says so instead of blaming the map.
+  LineTracker tracker(idealCamera(), defaultSquareMap());
+  std::mt19937 rng(7);
+  std::uniform_int_distribution<int> pixel(0, 127);
+  const int n = 20000;
+  dvs_driver::Event e;
+  for (int i = 0; i < n; ++i)
+  {
+    e.x = static_cast<uint16_t>(pixel(rng));
+    e.y = static_cast<uint16_t>(pixel(rng));
+    e.t_ns = 100000LL * i;  // 10 k events/s, 2 s
+    e.polarity = i % 2 == 0;
+    EXPECT_FALSE(tracker.processEvent(e));
+  }
+  ASSERT_EQ(tracker.state(), TrackerState::kInitializing);
+  const InitializerStats& is = tracker.initializerStats();
+  EXPECT_EQ(is.events, static_cast<uint64_t>(n));
+  EXPECT_GT(is.events_voted, 0u);
+  EXPECT_LT(is.events_voted * 10, is.events);
+  const std::string why = is.noPoseReason();
+  EXPECT_EQ(why.find(std::to_string(is.events_voted) + " of 20000 events"), 0u) << why;
+  EXPECT_NE(why.find("isolated (noise)"), std::string::npos) << why;
+  EXPECT_NE(is.json().find("\"events_voted\": " + std::to_string(is.events_voted)), std::string::npos) << is.json();
+}
+
+TEST(LineTracker, InitialiserCountsOnlyTheEventsBeforeTracking)
+{
+  const SyntheticSequence seq = slowRoll(0.6);
+  LineTracker tracker(idealCamera(), defaultSquareMap());
+  uint64_t before_tracking = 0;
+  for (const auto& e : seq.events)
+  {
+    before_tracking += tracker.state() == TrackerState::kTracking ? 0 : 1;
+    tracker.processEvent(e);
+  }
+  ASSERT_EQ(tracker.state(), TrackerState::kTracking);
+  const InitializerStats& is = tracker.initializerStats();
+  EXPECT_EQ(is.events, before_tracking);
+  EXPECT_LT(is.events, tracker.stats().events);
+  EXPECT_GT(is.events_voted, 0u);
+  EXPECT_LE(is.events_voted, is.events);
+}
+
+TEST(InitializerStats, NoPoseReasonNamesTheStageThatStoppedTheDetections)
+{
+  InitializerStats s;
+  EXPECT_EQ(s.noPoseReason(), "no events reached the initialiser");
+  // Enough voted events and attempts, no polygon: the segments are named, not the filter.
+  s.events = 1000;
+  s.events_voted = 400;
+  s.attempts = 3;
+  s.segments = 7;
+  std::string why = s.noPoseReason();
+  EXPECT_EQ(why.find("400 of 1000 events (40 %) passed the neighbour filter, 3 detection attempts: no image polygon"), 0u)
+      << why;
+  EXPECT_NE(why.find("among the 7 segments"), std::string::npos) << why;
+  // Polygons found: each stage's count.
+  s.polygons = 12;
+  s.pose_failed = 5;
+  s.coverage_failed = 4;
+  s.ambiguous = 2;
+  s.unconfirmed = 1;
+  why = s.noPoseReason();
+  EXPECT_NE(why.find("12 image polygons: 5 gave no pose, 4 were not backed"), std::string::npos) << why;
+  EXPECT_NE(why.find("2 ambiguous, 1 unconfirmed"), std::string::npos) << why;
+  // Too few voted events (under a tenth), or none enough for an attempt: the filter is named.
+  s.events_voted = 99;
+  EXPECT_NE(s.noPoseReason().find("isolated (noise)"), std::string::npos) << s.noPoseReason();
+  s.events_voted = 400;
+  s.attempts = 0;
+  EXPECT_NE(s.noPoseReason().find("and 0 detection attempts ran"), std::string::npos) << s.noPoseReason();
+}

@@ -232,6 +232,16 @@ TEST(TrackerRos, TracksASimulatedBag)
       imu_message = kv.value;
   }
   EXPECT_EQ(imu_status, "OK") << "the IMU is not fused at the end: " << imu_message;
+  // The initialiser's counters (why there was no pose before the first one).
+  unsigned long long voted = 0, offered = 0;
+  bool have_init = false;
+  for (const auto& kv : rx.diagnostics.back().values)
+    if (kv.key == "initialiser: events voted / offered")
+      have_init = std::sscanf(kv.value.c_str(), "%llu / %llu", &voted, &offered) == 2;
+  EXPECT_TRUE(have_init);
+  EXPECT_GT(voted, 0u);
+  EXPECT_LE(voted, offered);
+  EXPECT_LT(offered, sim.events.size());
 
   // The latency split (latency_split.h): the events counted in the total and in each part, the
   // packets stamped on the wall clock (the clock matches the events), p50 <= p99 <= max.

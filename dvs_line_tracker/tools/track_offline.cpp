@@ -358,12 +358,7 @@ int main(int argc, char** argv)
     const auto& st = tracker.stats();
     if (st.initializations == 0)
     {
-      const auto& is = tracker.initializerStats();
-      std::cerr << "track_offline: no pose: " << is.attempts << " detection attempts found " << is.polygons
-                << " image polygons with the map's side counts; " << is.coverage_failed
-                << " were not backed by events along every visible map edge, " << is.unexplained
-                << " (one side out of view) left most events unexplained, " << is.ambiguous << " ambiguous, "
-                << is.unconfirmed << " unconfirmed (is the map right, the target in view and moving?)\n";
+      std::cerr << "track_offline: no pose: " << tracker.initializerStats().noPoseReason() << "\n";
     }
     if (st.events_outside_sensor > 0)
       std::cerr << "track_offline: warning: " << st.events_outside_sensor << " events lie outside the "

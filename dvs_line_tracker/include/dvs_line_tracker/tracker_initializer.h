@@ -31,6 +31,8 @@ namespace dvs_line_tracker
 /// What the initialiser did with its detection attempts (why there is no pose yet).
 struct InitializerStats
 {
+  uint64_t events = 0;                ///< events offered while not tracking
+  uint64_t events_voted = 0;          ///< of those, the ones that passed the neighbour filter and voted in the Hough space
   uint64_t attempts = 0;              ///< detections run on the Hough window
   uint64_t full_hough_attempts = 0;   ///< attempts that also ran the full Hough (init_full_hough_fallback)
   uint64_t wide_turn_attempts = 0;    ///< attempts that also searched polygons with turns only the wide bounds admit (polygon_wide_*_angle_deg)
@@ -48,6 +50,10 @@ struct InitializerStats
   uint64_t prior_accepted = 0;        ///< re-acquisitions from that prior
   /// One JSON object of the counters (keys as the fields).
   std::string json() const;
+  /// Why there is no pose yet, in one sentence for a user: the stage that stopped every
+  /// detection (no events, too few events through the neighbour filter, no polygon of the map's
+  /// side counts, none backed by events, ...) and the counters behind it.
+  std::string noPoseReason() const;
 };
 
 class TrackerInitializer

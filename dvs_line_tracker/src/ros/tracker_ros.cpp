@@ -577,6 +577,17 @@ void TrackerRos::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat)
   stat.add("events outside the sensor", st.events_outside_sensor);
   stat.add("restarts after time went back", st.time_jumps);
   stat.add("gaps bridged by the IMU", st.gaps_bridged);
+  // While there is no pose, say why (the stage that stops the detections), not only the state.
+  const InitializerStats& is = tracker_->initializerStats();
+  stat.add("initialiser: events voted / offered", std::to_string(is.events_voted) + " / " + std::to_string(is.events));
+  stat.add("initialiser: detection attempts", is.attempts);
+  stat.add("initialiser: counters", is.json());
+  if (s != TrackerState::kTracking)
+  {
+    const std::string why = is.noPoseReason();
+    stat.add("initialiser: why no pose", why);
+    stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, std::string(toString(s)) + ": " + why);
+  }
   if (st.events_outside_sensor > 0 || st.time_jumps > 0)
     stat.mergeSummary(diagnostic_msgs::DiagnosticStatus::WARN, "input problems (see the counters)");
   // Overload: what the tracker left out to keep up (never silent).
