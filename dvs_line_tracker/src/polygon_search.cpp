@@ -440,6 +440,59 @@ std::vector<ImageSegment> splitAtJunctions(const std::vector<ImageSegment>& segm
   return out;
 }
 
+std::vector<ImageSegment> joinCollinearSegments(const std::vector<ImageSegment>& segments)
+{
+  constexpr double kJoinAngleDeg = 10.0, kJoinDistancePx = 2.0;
+  const double cos_limit = std::cos(kJoinAngleDeg * M_PI / 180.0);
+  struct Join
+  {
+    double gap;
+    ImageSegment segment;
+  };
+  std::vector<Join> joins;
+  auto lineDistance = [](const ImageSegment& s, const Eigen::Vector2d& p) {
+    const Eigen::Vector2d d = s.direction();
+    return std::abs(d.x() * (p.y() - s.p0.y()) - d.y() * (p.x() - s.p0.x()));
+  };
+  for (size_t i = 0; i < segments.size(); ++i)
+    for (size_t j = i + 1; j < segments.size(); ++j)
+    {
+      const ImageSegment& a = segments[i];
+      const ImageSegment& b = segments[j];
+      const double len_a = a.length(), len_b = b.length();
+      if (len_a < 1e-9 || len_b < 1e-9)
+        continue;
+      const Eigen::Vector2d dir = a.direction();
+      if (std::abs(dir.dot(b.direction())) < cos_limit)
+        continue;
+      // Positions along a's direction: a spans [0, len_a]; b must lie wholly before or after it.
+      const double t0 = dir.dot(b.p0 - a.p0), t1 = dir.dot(b.p1 - a.p0);
+      const double lo = std::min(t0, t1), hi = std::max(t0, t1);
+      const Eigen::Vector2d& b_lo = t0 <= t1 ? b.p0 : b.p1;
+      const Eigen::Vector2d& b_hi = t0 <= t1 ? b.p1 : b.p0;
+      const bool after = lo >= len_a, before = hi <= 0;
+      const double gap = after ? lo - len_a : -hi;
+      if (!(after || before) || gap > std::min(len_a, len_b))
+        continue;
+      Join join;
+      join.gap = gap;
+      join.segment.p0 = after ? a.p0 : b_lo;
+      join.segment.p1 = after ? b_hi : a.p1;
+      // The inner ends lie on the line between the outer ends (the pieces' own directions,
+      // extrapolated over the whole side, would amplify their angle noise).
+      if (join.segment.length() < 1e-9 || lineDistance(join.segment, after ? a.p1 : a.p0) > kJoinDistancePx ||
+          lineDistance(join.segment, after ? b_lo : b_hi) > kJoinDistancePx)
+        continue;
+      join.segment.num_events = a.num_events + b.num_events;
+      joins.push_back(join);
+    }
+  std::stable_sort(joins.begin(), joins.end(), [](const Join& x, const Join& y) { return x.gap < y.gap; });
+  std::vector<ImageSegment> out = segments;
+  for (size_t k = 0; k < joins.size() && k < segments.size(); ++k)
+    out.push_back(joins[k].segment);
+  return out;
+}
+
 bool findPolygon(const std::vector<ImageSegment>& segments, int num_sides, const PolygonSearchParams& params,
                  ImagePolygon& polygon)
 {

@@ -339,6 +339,20 @@ TrackerInitializer::Outcome TrackerInitializer::trySegments(const std::vector<Im
       bridgeBorderSegments(split, search, geometry_.width, geometry_.height, border);
   if (bridged.size() > split.size())
     o = tryOpenPolygons(bridged, static_cast<int>(split.size()));
+  if (o != Outcome::kNext)
+    return o;
+  // Last, sides detected as two collinear pieces (the middle of a side moving along itself, or
+  // of a low-contrast edge, fires little): whole polygons with such a side joined.
+  const std::vector<ImageSegment> joined = joinCollinearSegments(segments);
+  if (joined.size() > segments.size())
+    for (int sides : side_counts_)
+      for (const ImagePolygon& polygon : findPolygons(joined, sides, search, 8, kSearchPolygons, view))
+        if (std::none_of(polygons.begin(), polygons.end(), [&](const ImagePolygon& q) { return sameCorners(q, polygon); }))
+        {
+          o = tryPolygon(polygon, recent, start);
+          if (o != Outcome::kNext)
+            return o;
+        }
   return o;
 }
 

@@ -216,6 +216,60 @@ TEST(PolygonSearch, SplitsTheCollinearSidesOfNeighbouringPolygons)
   }
 }
 
+TEST(PolygonSearch, JoinsTheCollinearPiecesOfASide)
+{
+  // The segments sweep scene 64's first Hough window gave (a square 77 px wide, rolled 15 deg,
+  // hand-held, contrast 3): the right and the top side fire little in their middles, each is
+  // detected as two pieces 16 px apart, and no piece reaches both of its side's corners.
+  const std::vector<ImageSegment> segs = {
+      seg(92.5, 111.8, 17.4, 89.9),  // bottom
+      seg(18.3, 91.6, 37.7, 17.9),   // left
+      seg(111.4, 35.6, 77.0, 27.0),  // top, right piece
+      seg(91.0, 112.3, 99.9, 81.0),  // right, lower piece
+      seg(103.7, 64.9, 111.1, 34.3), // right, upper piece
+      seg(61.1, 23.5, 36.2, 18.9),   // top, left piece
+  };
+  EXPECT_TRUE(findPolygons(segs, 4, PolygonSearchParams(), 8).empty());
+  const std::vector<ImageSegment> joined = joinCollinearSegments(segs);
+  ASSERT_EQ(joined.size(), segs.size() + 2);
+  for (size_t i = 0; i < segs.size(); ++i)  // the detected segments come first, unchanged
+    EXPECT_EQ(joined[i].p0, segs[i].p0);
+  // The joins span their pieces' outer ends and count both pieces' events.
+  for (size_t k = segs.size(); k < joined.size(); ++k)
+  {
+    EXPECT_GT(joined[k].length(), 70.0);
+    EXPECT_EQ(joined[k].num_events, 100);
+  }
+  const auto found = findPolygons(joined, 4, PolygonSearchParams(), 8);
+  ASSERT_FALSE(found.empty());
+  // Its corners: where the sides' lines meet (within a pixel of the pieces' outer ends).
+  const std::vector<Eigen::Vector2d> corners = {{17.9, 90.3}, {37.8, 17.9}, {111.3, 35.4}, {91.7, 112.0}};
+  for (const auto& e : corners)
+  {
+    double nearest = 1e9;
+    for (const auto& c : found.front().corners)
+      nearest = std::min(nearest, (c - e).norm());
+    EXPECT_LT(nearest, 2.0) << e.transpose();
+  }
+
+  // Not joined: overlapping pieces, a gap longer than the shorter piece, a parallel line 5 px
+  // away, a line turned by 15 deg.
+  EXPECT_EQ(joinCollinearSegments({seg(10, 50, 60, 50), seg(50, 50, 100, 50)}).size(), 2u);
+  EXPECT_EQ(joinCollinearSegments({seg(10, 50, 60, 50), seg(90, 50, 115, 50)}).size(), 2u);
+  EXPECT_EQ(joinCollinearSegments({seg(10, 50, 40, 50), seg(50, 55, 80, 55)}).size(), 2u);
+  const double t15 = std::tan(15.0 * M_PI / 180.0);
+  EXPECT_EQ(joinCollinearSegments({seg(10, 50, 40, 50), seg(50, 50, 80, 50 + 30 * t15)}).size(), 2u);
+  // Joined either way round: a piece before or after the other, either direction.
+  for (const auto& pair : {std::vector<ImageSegment>{seg(10, 50, 40, 50), seg(55, 50, 85, 50)},
+                           std::vector<ImageSegment>{seg(85, 50, 55, 50), seg(40, 50, 10, 50)}})
+  {
+    const auto j = joinCollinearSegments(pair);
+    ASSERT_EQ(j.size(), 3u);
+    EXPECT_NEAR(j[2].length(), 75.0, 1e-9);
+    EXPECT_NEAR(std::min(j[2].p0.x(), j[2].p1.x()), 10.0, 1e-9);
+  }
+}
+
 TEST(PolygonSearch, FindsPolygonsWithOneSideOutOfView)
 {
   // A square whose bottom side lies below a 128x128 image: three sides reach or cross the

@@ -98,6 +98,17 @@ std::vector<ImageSegment> splitAtJunctions(const std::vector<ImageSegment>& segm
 
 /// The polygon with `num_sides` sides whose sides meet best (smallest gap_px among the first 8
 /// found, longer segments first). Returns false when there is none.
+/// `segments` followed by the joins of collinear pairs: a side that fires little along part of
+/// its length (its middle moving along itself, a low-contrast edge) is detected as two pieces on
+/// one line, split at a gap longer than the Hough's, and neither piece reaches both corners. Two
+/// segments join when their inner ends lie within 2 px of the line between their outer ends (the
+/// pieces' own directions, from 20-40 px, differ by up to 4 deg on one side: at most 10 deg is
+/// asked of them), they do not overlap and the gap between them is at most
+/// the shorter one's length (so that two thirds of the joined side were seen).
+/// The join spans both pieces' outer ends and counts both pieces' events. At most
+/// segments.size() joins are added (shortest gaps first).
+std::vector<ImageSegment> joinCollinearSegments(const std::vector<ImageSegment>& segments);
+
 bool findPolygon(const std::vector<ImageSegment>& segments, int num_sides, const PolygonSearchParams& params,
                  ImagePolygon& polygon);
 
