@@ -31,6 +31,10 @@ constexpr double kTwinMargin = 1.1;
 /// (init_max_surrounding_coverage).
 constexpr double kSurroundingShift = 3.0;
 
+/// Closed polygons with a side bridged between two sides running out of view need this many more
+/// agreeing detections.
+constexpr int kBridgedClosedConfirmations = 2;
+
 /// A second hypothesis explaining this fraction of the best one's evidence makes it ambiguous.
 constexpr double kAmbiguityRatio = 0.85;
 
@@ -353,11 +357,25 @@ TrackerInitializer::Outcome TrackerInitializer::trySegments(const std::vector<Im
           if (o != Outcome::kNext)
             return o;
         }
+  // And whole polygons with a side bridged between the inner ends of two sides running out of
+  // view (a square at a steep angle close to a wide lens: its near side moves along itself and
+  // is not detected, its far side is in view). The bridge is inferred, not seen, and bridges
+  // between unrelated segments make closed polygons too: two more agreeing detections are needed
+  // (with one more, a false start in the 192-scene sweep, scene 166).
+  if (bridged.size() > split.size())
+    for (int sides : side_counts_)
+      for (const ImagePolygon& polygon : findPolygons(bridged, sides, search, 8, kSearchPolygons, view))
+        if (std::none_of(polygons.begin(), polygons.end(), [&](const ImagePolygon& q) { return sameCorners(q, polygon); }))
+        {
+          o = tryPolygon(polygon, recent, start, kBridgedClosedConfirmations);
+          if (o != Outcome::kNext)
+            return o;
+        }
   return o;
 }
 
 TrackerInitializer::Outcome TrackerInitializer::tryPolygon(const ImagePolygon& polygon, const RecentEvents& recent,
-                                                           const StartTracking& start)
+                                                           const StartTracking& start, int extra_confirmations)
 {
   const double m = params_.init_border_margin_px, w = geometry_.width - 1.0, h = geometry_.height - 1.0;
   ++stats_.polygons;
@@ -457,7 +475,7 @@ TrackerInitializer::Outcome TrackerInitializer::tryPolygon(const ImagePolygon& p
   // gaps exceed a quarter of the perimeter (a walking person's limbs made such a square).
   // An open polygon's missing side is inferred too.
   double roll_rate_deg_s = 0;
-  if (!confirmed(init.pose, polygon.open || polygon.gap_px > kInferredOutlineRatio * polygon.perimeter() ? 1 : 0,
+  if (!confirmed(init.pose, (polygon.open || polygon.gap_px > kInferredOutlineRatio * polygon.perimeter() ? 1 : 0) + extra_confirmations,
                  best.min_fraction >= params_.init_min_coverage, &roll_rate_deg_s))
   {
     ++stats_.unconfirmed;

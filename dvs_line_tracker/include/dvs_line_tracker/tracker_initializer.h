@@ -111,7 +111,9 @@ private:
   };
   /// Hypotheses from `polygon` (one per map polygon of its side count), validated, ranked and
   /// confirmed; starts tracking from the winner.
-  Outcome tryPolygon(const ImagePolygon& polygon, const RecentEvents& recent, const StartTracking& start);
+  /// `extra_confirmations`: agreeing detections needed beyond the usual (inferred sides).
+  Outcome tryPolygon(const ImagePolygon& polygon, const RecentEvents& recent, const StartTracking& start,
+                     int extra_confirmations = 0);
   /// The polygons (closed, then open, then bridged) of `segments` under the turn bounds of
   /// `search`, each tried as a hypothesis.
   Outcome trySegments(const std::vector<ImageSegment>& segments, const RecentEvents& recent,
