@@ -450,10 +450,7 @@ std::vector<ImageSegment> joinCollinearSegments(const std::vector<ImageSegment>&
     ImageSegment segment;
   };
   std::vector<Join> joins;
-  auto lineDistance = [](const ImageSegment& s, const Eigen::Vector2d& p) {
-    const Eigen::Vector2d d = s.direction();
-    return std::abs(d.x() * (p.y() - s.p0.y()) - d.y() * (p.x() - s.p0.x()));
-  };
+  auto lineDistance = [](const ImageSegment& s, const Eigen::Vector2d& p) { return std::abs(cross(s.direction(), p - s.p0)); };
   for (size_t i = 0; i < segments.size(); ++i)
     for (size_t j = i + 1; j < segments.size(); ++j)
     {

@@ -345,32 +345,32 @@ TrackerInitializer::Outcome TrackerInitializer::trySegments(const std::vector<Im
     o = tryOpenPolygons(bridged, static_cast<int>(split.size()));
   if (o != Outcome::kNext)
     return o;
+  // The whole polygons of `searched` not tried above, each confirmed by `extra` more detections.
+  auto tryMoreClosedPolygons = [&](const std::vector<ImageSegment>& searched, int extra) {
+    for (int sides : side_counts_)
+      for (const ImagePolygon& polygon : findPolygons(searched, sides, search, 8, kSearchPolygons, view))
+        if (std::none_of(polygons.begin(), polygons.end(), [&](const ImagePolygon& q) { return sameCorners(q, polygon); }))
+        {
+          const Outcome tried = tryPolygon(polygon, recent, start, extra);
+          if (tried != Outcome::kNext)
+            return tried;
+        }
+    return Outcome::kNext;
+  };
   // Last, sides detected as two collinear pieces (the middle of a side moving along itself, or
   // of a low-contrast edge, fires little): whole polygons with such a side joined.
   const std::vector<ImageSegment> joined = joinCollinearSegments(segments);
   if (joined.size() > segments.size())
-    for (int sides : side_counts_)
-      for (const ImagePolygon& polygon : findPolygons(joined, sides, search, 8, kSearchPolygons, view))
-        if (std::none_of(polygons.begin(), polygons.end(), [&](const ImagePolygon& q) { return sameCorners(q, polygon); }))
-        {
-          o = tryPolygon(polygon, recent, start);
-          if (o != Outcome::kNext)
-            return o;
-        }
+    o = tryMoreClosedPolygons(joined, 0);
+  if (o != Outcome::kNext)
+    return o;
   // And whole polygons with a side bridged between the inner ends of two sides running out of
   // view (a square at a steep angle close to a wide lens: its near side moves along itself and
   // is not detected, its far side is in view). The bridge is inferred, not seen, and bridges
   // between unrelated segments make closed polygons too: two more agreeing detections are needed
   // (with one more, a false start in the 192-scene sweep, scene 166).
   if (bridged.size() > split.size())
-    for (int sides : side_counts_)
-      for (const ImagePolygon& polygon : findPolygons(bridged, sides, search, 8, kSearchPolygons, view))
-        if (std::none_of(polygons.begin(), polygons.end(), [&](const ImagePolygon& q) { return sameCorners(q, polygon); }))
-        {
-          o = tryPolygon(polygon, recent, start, kBridgedClosedConfirmations);
-          if (o != Outcome::kNext)
-            return o;
-        }
+    o = tryMoreClosedPolygons(bridged, kBridgedClosedConfirmations);
   return o;
 }
 

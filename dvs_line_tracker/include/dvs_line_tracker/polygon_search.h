@@ -96,8 +96,6 @@ std::vector<ImageSegment> bridgeBorderSegments(const std::vector<ImageSegment>& 
 std::vector<ImageSegment> splitAtJunctions(const std::vector<ImageSegment>& segments,
                                            const PolygonSearchParams& params);
 
-/// The polygon with `num_sides` sides whose sides meet best (smallest gap_px among the first 8
-/// found, longer segments first). Returns false when there is none.
 /// `segments` followed by the joins of collinear pairs: a side that fires little along part of
 /// its length (its middle moving along itself, a low-contrast edge) is detected as two pieces on
 /// one line, split at a gap longer than the Hough's, and neither piece reaches both corners. Two
@@ -109,6 +107,8 @@ std::vector<ImageSegment> splitAtJunctions(const std::vector<ImageSegment>& segm
 /// segments.size() joins are added (shortest gaps first).
 std::vector<ImageSegment> joinCollinearSegments(const std::vector<ImageSegment>& segments);
 
+/// The polygon with `num_sides` sides whose sides meet best (smallest gap_px among the first 8
+/// found, longer segments first). Returns false when there is none.
 bool findPolygon(const std::vector<ImageSegment>& segments, int num_sides, const PolygonSearchParams& params,
                  ImagePolygon& polygon);
 
