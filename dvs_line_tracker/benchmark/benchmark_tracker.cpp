@@ -1,9 +1,10 @@
 // benchmark_tracker: speed (events/s, per-event latency) and accuracy of the line tracker on the
 // suite's simulated sequences, beside the thesis's figures and a frame-based baseline.
 //
-//   rosrun dvs_line_tracker benchmark_tracker [--runs 5] [--quick]
+//   rosrun dvs_line_tracker benchmark_tracker [--runs 5] [--quick] [--params tracker.yaml]
 #include "accuracy_classes.h"
 #include "benchmark_stats.h"
+#include "benchmark_tool.h"
 #include "frame_baseline.h"
 
 #include <dvs_line_tracker/line_tracker.h>
@@ -125,15 +126,32 @@ int main(int argc, char** argv)
 {
   int runs = 5;
   bool quick = false;
+  LineTrackerParams base;  // every row's parameters before its own changes (--params)
   for (int i = 1; i < argc; ++i)
   {
-    if (!std::strcmp(argv[i], "--runs") && i + 1 < argc)
-      runs = std::max(1, std::atoi(argv[++i]));
+    const bool has_value = i + 1 < argc;
+    if (has_value && !std::strcmp(argv[i], "--runs"))
+    {
+      char* end = nullptr;
+      const long v = std::strtol(argv[++i], &end, 10);
+      if (!end || *end || v < 1 || v > 1000)
+      {
+        std::fprintf(stderr, "benchmark_tracker: --runs must be 1-1000 (got '%s')\n", argv[i]);
+        return 2;
+      }
+      runs = static_cast<int>(v);
+    }
+    else if (has_value && !std::strcmp(argv[i], "--params"))
+    {
+      if (!loadParamsOption("benchmark_tracker", argv[++i], base))
+        return 2;
+    }
     else if (!std::strcmp(argv[i], "--quick"))
       quick = true;
     else
     {
-      std::fprintf(stderr, "usage: benchmark_tracker [--runs N] [--quick]\n");
+      std::fprintf(stderr, "usage: benchmark_tracker [--runs N (default 5)] [--quick] [--params tracker.yaml (every row's "
+                           "base parameters)]\n");
       return 2;
     }
   }
@@ -151,19 +169,19 @@ int main(int argc, char** argv)
   std::printf("| sequence | solver | events | Mev/s all | Mev/s tracking | first pose [s] | RMS [cm / deg] | max [cm / deg] | "
               "tracked | latency p50 / p99 [ns] | attributed | pose updates [k] | losses |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
-  LineTrackerParams incremental;
-  LineTrackerParams full;
+  const LineTrackerParams incremental = base;
+  LineTrackerParams full = base;
   full.estimator.solver = SolverType::kFullGaussNewton;
-  LineTrackerParams thesis;  // the thesis's buffer size, events where they are, an undamped least-squares solver
+  LineTrackerParams thesis = base;  // the thesis's buffer size, events where they are, an undamped least-squares solver
   thesis.buffer_size = 8;
   thesis.buffer_motion_px = 0;
   thesis.estimator.damping = 1e-4;
   thesis.estimator.huber_px = 1e3;  // plain least squares
   thesis.edge_run_model = false;
   thesis.edge_offset_px = 0;
-  LineTrackerParams constant_offset;  // the default with the constant dark-side offset instead of the run model
+  LineTrackerParams constant_offset = base;  // the default with the constant dark-side offset instead of the run model
   constant_offset.edge_run_model = false;
-  LineTrackerParams previous;  // the settings before 2026-11-21 09:40 (buffer 20 without motion bound, constant offset)
+  LineTrackerParams previous = base;  // the settings before 2026-11-21 09:40 (buffer 20 without motion bound, constant offset)
   previous.buffer_size = 20;
   previous.buffer_motion_px = 0;
   previous.edge_run_model = false;

@@ -15,7 +15,8 @@ void EventUpdater::reset()
   dark_side_.clear();
   num_changed_ = events_since_solve_ = 0;
   rate_clock_started_ = false;
-  solves_ = 0;
+  solves_ = factorizations_ = 0;
+  factor_.valid = false;
   std::fill(changed_flag_.begin(), changed_flag_.end(), 0);
   round_robin_ = 0;
   updates_since_normalize_ = 0;
@@ -50,6 +51,7 @@ int EventUpdater::start(EstimatorState& state, const Pose& pose)
   changed_list_.assign(state.projected.size(), 0);
   num_changed_ = events_since_solve_ = 0;
   rate_clock_started_ = false;
+  factor_.valid = false;
   return visible;
 }
 
@@ -123,17 +125,41 @@ void EventUpdater::step(EstimatorState& state, const int* changed, int num_chang
   const auto& ep = params_.estimator;
   if (ep.solver == SolverType::kIncremental)
   {
+    // Re-linearise, and follow how far the information moved from the factored one: the summed
+    // absolute change of each diagonal element (a segment turning active or inactive changes it
+    // wholesale).
+    const auto relinearizeTracked = [&](int i) {
+      const SegmentNormalEquations& eq = state.equations[i];
+      const bool was_active = eq.active;
+      const Vector6d before = eq.H.diagonal();
+      relinearize(state, i);
+      if (eq.active != was_active)
+        factor_.valid = false;
+      else if (eq.active)
+        information_change_ += (eq.H.diagonal() - before).cwiseAbs();
+    };
     for (int c = 0; c < num_changed; ++c)
-      relinearize(state, changed[c]);
+      relinearizeTracked(changed[c]);
     for (int r = 0; r < ep.extra_relinearizations && n > 1; ++r)
     {
       round_robin_ = (round_robin_ + 1) % n;
       // Segments without events of their own lose their stale events here.
       expireStaleEvents(state, round_robin_);
-      relinearize(state, round_robin_);
+      relinearizeTracked(round_robin_);
     }
-    Vector6d delta;
-    if (solveStep(state.equations.data(), n, state.x_accumulated, state.damping, delta))
+    // A factor serves while the information it was made of changed by less than
+    // factor_information_change (a stale factor that under-states the information overshoots),
+    // and at most factor_every_solves solves.
+    if (!factor_.valid || ++solves_on_factor_ >= params_.factor_every_solves ||
+        (information_change_.array() > params_.factor_information_change * factor_.information_diagonal.array()).any())
+    {
+      information_change_.setZero();
+      factorDampedInformation(state.equations.data(), n, state.damping, factor_);
+      ++factorizations_;
+      solves_on_factor_ = 0;
+    }
+    Vector6d g, delta;
+    if (gradientAt(state.equations.data(), n, state.x_accumulated, g) && solveWithFactor(factor_, g, delta))
     {
       state.pose.applyCameraIncrement(delta);
       state.x_accumulated += delta;
@@ -184,5 +210,7 @@ void EventUpdater::refresh(EstimatorState& state)
     partial |= !s.in_front || s.visible_length < s.length - 1.0;
   state.damping =
       partial ? std::max(params_.estimator.damping, params_.damping_partial_view) : params_.estimator.damping;
+  // Visibility and damping may have changed: the next solve assembles the information anew.
+  factor_.valid = false;
 }
 }  // namespace dvs_line_tracker

@@ -16,18 +16,22 @@ void projectAlongNormal(const PinholeK& k, const Eigen::Vector3d& p, const Eigen
 bool linearizeSegment(const PinholeK& k, const Pose& pose, const Eigen::Vector3d& p0_world,
                       const Eigen::Vector3d& p1_world, const SegmentBuffer& buffer, SegmentNormalEquations& out)
 {
-  out.H.setZero();
-  out.g.setZero();
-  out.sum_sq = 0;
   out.num_points = buffer.size();
+  // Zeroed only when nothing is linearised: on success every entry is written below.
+  auto none = [&out] {
+    out.H.setZero();
+    out.g.setZero();
+    out.sum_sq = 0;
+    return false;
+  };
   const Eigen::Vector3d pc0 = pose.toCamera(p0_world), pc1 = pose.toCamera(p1_world);
   if (pc0.z() < 1e-3 || pc1.z() < 1e-3)
-    return false;
+    return none();
   const Eigen::Vector2d a = k.project(pc0), b = k.project(pc1);
   const Eigen::Vector2d e = b - a;
   const double len = e.norm();
   if (len < 1e-6 || buffer.size() < 2)
-    return false;
+    return none();
   const Eigen::Vector2d ehat = e / len;
   const Eigen::Vector2d n(-ehat.y(), ehat.x());
   // Per point i (weight w_i, s_i its position along a->b in units of the length, r_i its
@@ -59,70 +63,92 @@ bool linearizeSegment(const PinholeK& k, const Pose& pose, const Eigen::Vector3d
   return sw > 0;
 }
 
-/// Solve H x = b for a symmetric positive definite 6x6 H (its lower triangle is read) by
-/// Cholesky, written out for the fixed size (Eigen's LLT runs its generic blocked loops).
-/// Returns false when H is not positive definite.
-static inline bool choleskySolve6(const Matrix6d& H, const Vector6d& b, Vector6d& x)
+bool factorDampedInformation(const SegmentNormalEquations* eqs, int n, double damping, DampedFactor& f)
 {
-  double L[6][6];
-  double inv_diag[6];
-  for (int j = 0; j < 6; ++j)
-  {
-    double d = H(j, j);
-    for (int c = 0; c < j; ++c)
-      d -= L[j][c] * L[j][c];
-    if (!(d > 0))
-      return false;
-    const double ljj = std::sqrt(d);
-    inv_diag[j] = 1.0 / ljj;
-    for (int i = j + 1; i < 6; ++i)
-    {
-      double s = H(i, j);
-      for (int c = 0; c < j; ++c)
-        s -= L[i][c] * L[j][c];
-      L[i][j] = s * inv_diag[j];
-    }
-  }
-  double y[6];
-  for (int i = 0; i < 6; ++i)
-  {
-    double s = b[i];
-    for (int c = 0; c < i; ++c)
-      s -= L[i][c] * y[c];
-    y[i] = s * inv_diag[i];
-  }
-  for (int i = 5; i >= 0; --i)
-  {
-    double s = y[i];
-    for (int r = i + 1; r < 6; ++r)
-      s -= L[r][i] * x[r];
-    x[i] = s * inv_diag[i];
-  }
-  return true;
-}
-
-bool solveStep(const SegmentNormalEquations* eqs, int n, const Vector6d& x_now, double damping, Vector6d& delta)
-{
+  f.valid = false;
   Matrix6d H = Matrix6d::Zero();
-  Vector6d g = Vector6d::Zero();
   int used = 0;
   for (int i = 0; i < n; ++i)
   {
     if (!eqs[i].active)
       continue;
     H += eqs[i].H;
-    g.noalias() += eqs[i].g + eqs[i].H * (x_now - eqs[i].x_lin);
     ++used;
   }
   if (used == 0)
     return false;
+  f.information_diagonal = H.diagonal();
   // Marquardt's scaling: each parameter is damped relative to its own information, so the
   // damping does not depend on the units (rad vs. m) and does not favour explaining an image
   // motion by a rotation rather than by a translation.
   H.diagonal().array() *= 1.0 + damping;
   H.diagonal().array() += 1e-9;
-  if (!choleskySolve6(H, -g, delta))
+  // L D L^T (L unit lower triangular), written out for the fixed size: no square roots, so
+  // the chain from column to column is one division (Eigen's LDLT pivots and runs generic
+  // loops). The lower triangle of H is read; f.L(i, c) * D(c) is kept in `ld` for the updates.
+  double ld[6][6];
+  for (int j = 0; j < 6; ++j)
+  {
+    double d = H(j, j);
+    for (int c = 0; c < j; ++c)
+      d -= f.L[j][c] * ld[j][c];
+    if (!(d > 0))
+      return false;
+    f.inv_diag[j] = 1.0 / d;
+    for (int i = j + 1; i < 6; ++i)
+    {
+      double s = H(i, j);
+      for (int c = 0; c < j; ++c)
+        s -= f.L[i][c] * ld[j][c];
+      ld[i][j] = s;
+      f.L[i][j] = s * f.inv_diag[j];
+    }
+  }
+  f.valid = true;
+  return true;
+}
+
+bool gradientAt(const SegmentNormalEquations* eqs, int n, const Vector6d& x_now, Vector6d& g)
+{
+  g.setZero();
+  int used = 0;
+  for (int i = 0; i < n; ++i)
+  {
+    if (!eqs[i].active)
+      continue;
+    g.noalias() += eqs[i].g + eqs[i].H * (x_now - eqs[i].x_lin);
+    ++used;
+  }
+  return used > 0;
+}
+
+bool solveWithFactor(const DampedFactor& f, const Vector6d& g, Vector6d& delta)
+{
+  if (!f.valid)
     return false;
+  // L D L^T delta = -g: forward substitution (unit diagonal), scaling by D^-1, backward.
+  double y[6];
+  for (int i = 0; i < 6; ++i)
+  {
+    double s = -g[i];
+    for (int c = 0; c < i; ++c)
+      s -= f.L[i][c] * y[c];
+    y[i] = s;
+  }
+  for (int i = 5; i >= 0; --i)
+  {
+    double s = y[i] * f.inv_diag[i];
+    for (int r = i + 1; r < 6; ++r)
+      s -= f.L[r][i] * delta[r];
+    delta[i] = s;
+  }
   return delta.allFinite();
+}
+
+bool solveStep(const SegmentNormalEquations* eqs, int n, const Vector6d& x_now, double damping, Vector6d& delta)
+{
+  DampedFactor f;
+  Vector6d g;
+  return factorDampedInformation(eqs, n, damping, f) && gradientAt(eqs, n, x_now, g) && solveWithFactor(f, g, delta);
 }
 }  // namespace dvs_line_tracker

@@ -94,6 +94,10 @@ dvs_driver::ParamTable trackerParamTable(LineTrackerParams& p, std::string& solv
         "the pose is solved once per this many attributed events (between: attributed and buffered; 1: every event)");
   t.add("max_solve_rate", p.max_solve_rate, "Hz", 0, 1e9,
         "... and at most this often per second of event time, 1 ms bursts let through (0: no limit)");
+  t.add("factor_every_solves", p.factor_every_solves, "solves", 1, 1000,
+        "the damped information is factored at most this many solves apart, its factor reused in between (1: every solve)");
+  t.add("factor_information_change", p.factor_information_change, "", 0, 1,
+        "... and once an element of its diagonal changed by this fraction, a segment turned (in)active or a quality check ran (0: every solve)");
   t.add("full_iterations", p.estimator.full_iterations, "", 1, 100, "Gauss-Newton iterations per event (solver full)");
   t.add("extra_relinearizations", p.estimator.extra_relinearizations, "", 0, 1000,
         "segments re-linearised round robin per event (solver incremental)");

@@ -145,3 +145,50 @@ TEST(PoseEstimator, SolveStepSolvesTheDampedNormalEquations)
   eqs[0].active = eqs[1].active = false;
   EXPECT_FALSE(solveStep(eqs.data(), 2, x_now, damping, delta));
 }
+
+TEST(PoseEstimator, AFactorServesTheStepsOfLaterGradients)
+{
+  // The factor of the damped information solves for any later gradient (known answer against
+  // Eigen's LLT); the parts give solveStep's step bit for bit; an indefinite or empty system
+  // leaves the factor invalid, and an invalid factor gives no step.
+  std::vector<SegmentNormalEquations> eqs(3);
+  for (int i = 0; i < 3; ++i)
+  {
+    const Matrix6d a = Matrix6d::Random();
+    eqs[i].H = a * a.transpose() + 0.1 * Matrix6d::Identity();
+    eqs[i].g = Vector6d::Random();
+    eqs[i].x_lin = 0.01 * Vector6d::Random();
+    eqs[i].active = true;
+  }
+  eqs[2].active = false;  // an inactive segment counts in neither the factor nor the gradient
+  const double damping = 0.07;
+  Matrix6d H = eqs[0].H + eqs[1].H;
+  H.diagonal().array() *= 1.0 + damping;
+  H.diagonal().array() += 1e-9;
+  DampedFactor f;
+  ASSERT_TRUE(factorDampedInformation(eqs.data(), 3, damping, f));
+  ASSERT_TRUE(f.valid);
+  for (int trial = 0; trial < 3; ++trial)
+  {
+    const Vector6d x_now = 0.02 * Vector6d::Random();
+    Vector6d g;
+    ASSERT_TRUE(gradientAt(eqs.data(), 3, x_now, g));
+    const Vector6d g_expected = eqs[0].g + eqs[1].g + eqs[0].H * (x_now - eqs[0].x_lin) + eqs[1].H * (x_now - eqs[1].x_lin);
+    EXPECT_LT((g - g_expected).norm(), 1e-12 * g_expected.norm());
+    Vector6d delta, whole;
+    ASSERT_TRUE(solveWithFactor(f, g, delta));
+    const Vector6d expected = -H.llt().solve(g);
+    EXPECT_LT((delta - expected).norm(), 1e-10 * expected.norm());
+    ASSERT_TRUE(solveStep(eqs.data(), 3, x_now, damping, whole));
+    EXPECT_EQ(whole, delta);
+  }
+  eqs[0].H = -4.0 * Matrix6d::Identity();
+  EXPECT_FALSE(factorDampedInformation(eqs.data(), 2, damping, f));
+  EXPECT_FALSE(f.valid);
+  Vector6d delta;
+  EXPECT_FALSE(solveWithFactor(f, Vector6d::Ones(), delta));
+  eqs[0].active = eqs[1].active = false;
+  EXPECT_FALSE(factorDampedInformation(eqs.data(), 3, damping, f));
+  Vector6d g;
+  EXPECT_FALSE(gradientAt(eqs.data(), 3, Vector6d::Zero(), g));
+}

@@ -203,6 +203,71 @@ TEST(EventUpdater, SolvesEveryEventBelowTheSolveRateAndAtTheRateAbove)
   EXPECT_EQ(updater.solves() - unlimited, 1000u);
 }
 
+TEST(EventUpdater, ReusesTheFactorOfTheInformationWhileItChangesLittle)
+{
+  // The same 400 events into updaters that factor the damped information at every solve, at
+  // most every 4th (its diagonal allowed to change 100 %), only when the diagonal changed
+  // (tolerance 0), or when it changed by 5 % (at most every 1000th). The first step after the
+  // start is the same in all (all factor anew); the counts follow the rules; a refresh() (quality
+  // check) makes the next solve factor anew; the reused factors steer the pose to nearly the same
+  // place (the information changes little from event to event).
+  const TrackingGeometry g = dvs128Geometry();
+  LineTrackerParams every, fourth, on_change, tolerant;
+  every.factor_every_solves = 1;
+  fourth.factor_every_solves = 4;
+  fourth.factor_information_change = 1.0;
+  on_change.factor_every_solves = 1000;
+  on_change.factor_information_change = 0.0;
+  tolerant.factor_every_solves = 1000;
+  tolerant.factor_information_change = 0.05;
+  const LineTrackerParams* params[4] = {&every, &fourth, &on_change, &tolerant};
+  std::vector<EstimatorState> states(4);
+  std::vector<EventUpdater> updaters;
+  for (int k = 0; k < 4; ++k)
+  {
+    states[k].resize(g.map.segments.size(), params[k]->buffer_size);
+    updaters.emplace_back(g, *params[k]);
+    updaters[k].start(states[k], kFront);
+  }
+  const ProjectedSegment s0 = states[0].projected[0], s1 = states[0].projected[1];
+  // Events 0.6 px off two sides, as if the square had moved.
+  const auto event = [&](int i) {
+    const ProjectedSegment& s = i % 2 ? s1 : s0;
+    return Eigen::Vector2d(s.a + (0.1 + 0.8 * (i % 37) / 37.0) * (s.b - s.a) + 0.6 * s.normal);
+  };
+  int64_t t = 1000000;
+  for (int i = 0; i < 400; ++i, t += 20000)
+  {
+    for (int k = 0; k < 4; ++k)
+      ASSERT_TRUE(updaters[k].update(states[k], event(i), true, 0.0, t));
+    if (i == 0)
+      for (int k = 1; k < 4; ++k)
+      {
+        EXPECT_EQ(states[0].pose.R_camera_world, states[k].pose.R_camera_world);
+        EXPECT_EQ(states[0].pose.t_camera_world, states[k].pose.t_camera_world);
+      }
+  }
+  for (int k = 0; k < 4; ++k)
+    EXPECT_EQ(updaters[k].solves(), 400u);
+  EXPECT_EQ(updaters[0].factorizations(), 400u);
+  EXPECT_EQ(updaters[1].factorizations(), 100u);
+  EXPECT_EQ(updaters[2].factorizations(), 400u);  // every event changes the information a little
+  EXPECT_GT(updaters[3].factorizations(), 2u);      // 5 % of change is reached now and then...
+  EXPECT_LT(updaters[3].factorizations(), 200u);    // ...but not at every other solve
+  const Pose& exact = states[0].pose;
+  EXPECT_GT(positionError(kFront, exact), 1e-3);  // the events moved the pose...
+  for (int k = 1; k < 4; ++k)
+  {
+    EXPECT_LT(positionError(exact, states[k].pose), 0.02 * positionError(kFront, exact)) << k;  // ...all alike
+    EXPECT_LT(orientationError(exact, states[k].pose), 0.02 * orientationError(kFront, exact)) << k;
+  }
+  // A quality check may change the damping and the visibility: the next solve factors anew.
+  const uint64_t before = updaters[1].factorizations();
+  updaters[1].refresh(states[1]);
+  ASSERT_TRUE(updaters[1].update(states[1], event(400), true, 0.0, t));
+  EXPECT_EQ(updaters[1].factorizations(), before + 1);
+}
+
 namespace
 {
 // Counts `n` events in `monitor`, the first `attributed` of them attributed; the others along two

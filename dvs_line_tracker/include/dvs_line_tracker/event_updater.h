@@ -3,8 +3,10 @@
 // The per-event measurement update (thesis 4.2.2): attribute an event to the projected map
 // segments, buffer it where the edge model puts the edge, and take one damped Gauss-Newton step
 // on the buffers' normal equations (pose_estimator.h: incremental or full solver). Also the
-// solver policy: which segments are re-linearised per event, the damping in force (stronger
-// while part of the map is out of view), and dropping buffered events whose segment moved away.
+// solver policy: which segments are re-linearised per event, how often the damped information
+// is factored anew (factor_every_solves; the steps in between reuse its factor with the current
+// gradient), the damping in force (stronger while part of the map is out of view), and dropping
+// buffered events whose segment moved away.
 // A new kind of measurement (e.g. an IMU) gets its own updater beside this one.
 #include <dvs_line_tracker/dark_side_evidence.h>
 #include <dvs_line_tracker/estimator_state.h>
@@ -39,6 +41,10 @@ public:
 
   /// Gauss-Newton steps taken since construction or reset() (at most one per attributed event).
   uint64_t solves() const { return solves_; }
+  /// Factorisations of the damped information since construction or reset(): at least one per
+  /// factor_every_solves solves, one whenever the information's diagonal changed by
+  /// factor_information_change since the last, and one after every start() and refresh().
+  uint64_t factorizations() const { return factorizations_; }
 
 private:
   void relinearize(EstimatorState& state, int i) const;
@@ -63,5 +69,9 @@ private:
   int64_t rate_clock_ns_ = 0;        ///< the latest event time seen (time going back does not move it)
   int64_t solve_due_ns_ = 0;
   uint64_t solves_ = 0;
+  DampedFactor factor_;       ///< of the last assembled information (factor_every_solves)
+  int solves_on_factor_ = 0;  ///< solves since factor_ was made
+  uint64_t factorizations_ = 0;
+  Vector6d information_change_ = Vector6d::Zero();  ///< summed |change| of the information's diagonal since factor_
 };
 }  // namespace dvs_line_tracker

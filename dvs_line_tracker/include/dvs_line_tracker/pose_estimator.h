@@ -58,4 +58,23 @@ bool linearizeSegment(const PinholeK& k, const Pose& pose, const Eigen::Vector3d
 /// Solve the damped normal equations of the active segments at the accumulated increment
 /// `x_now`. Returns false when there is nothing to solve.
 bool solveStep(const SegmentNormalEquations* eqs, int n, const Vector6d& x_now, double damping, Vector6d& delta);
+
+/// The factors L D L^T of the damped information matrix sum H_i (diagonal scaled by
+/// 1 + damping): solveStep in parts, so that a factor can serve several steps while the
+/// information changes little (only the gradient is then assembled per step).
+struct DampedFactor
+{
+  double L[6][6];        ///< unit lower triangular: the entries strictly below the diagonal
+  double inv_diag[6];    ///< 1 / D(j)
+  Vector6d information_diagonal = Vector6d::Zero();  ///< the diagonal of the sum H_i factored (undamped)
+  bool valid = false;
+};
+/// Factor the damped information of the active segments; false when none is active or the
+/// matrix is not positive definite (then `f` is invalid).
+bool factorDampedInformation(const SegmentNormalEquations* eqs, int n, double damping, DampedFactor& f);
+/// The gradient of the active segments carried to `x_now` (sum g_i + H_i (x_now - x_lin_i));
+/// false when none is active.
+bool gradientAt(const SegmentNormalEquations* eqs, int n, const Vector6d& x_now, Vector6d& g);
+/// delta = -(L D L^T)^-1 g; false when `f` is invalid or the result is not finite.
+bool solveWithFactor(const DampedFactor& f, const Vector6d& g, Vector6d& delta);
 }  // namespace dvs_line_tracker

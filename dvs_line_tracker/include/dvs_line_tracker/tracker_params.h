@@ -58,6 +58,17 @@ struct LineTrackerParams
   /// next solve uses them all: at high event rates the pose moves little from event to event,
   /// and the tracker keeps up with fast sensors. 0: no limit.
   double max_solve_rate = 200000;
+  /// The damped information matrix (sum of the segments' H) is assembled and factored at most
+  /// this many solves apart; the solves between reuse its factor with the current gradient. One
+  /// event changes one segment's buffer by one event: the information changes little from solve
+  /// to solve, the gradient carries the news (BENCHMARKS.md, 2026-11-26). 1: every solve.
+  int factor_every_solves = 8;
+  /// ... and sooner: once an element of the information's diagonal has changed by this fraction
+  /// of its factored value (the absolute changes of the re-linearised segments summed; a factor
+  /// that under-states the information overshoots: with thesis-size buffers of 8 events and
+  /// almost no damping, a fixed 8 solves lost the 2000 deg/s flip), a segment turned active or
+  /// inactive, or a quality check (damping, visibility) ran. 0: every solve.
+  double factor_information_change = 0.05;
   /// The initialisation's event counts and pixel gaps (Hough window and threshold, segment gap,
   /// detection interval, refinement events) are given for a 128x128 sensor and scaled by
   /// sqrt(width * height) / 128 on larger sensors (their edges are longer and fire more events);
