@@ -8,7 +8,7 @@ EdgeRunModel::EdgeRunModel(int width, int height, const EdgeRunModelParams& para
   : params_(params)
   , width_(width)
   , runs_(static_cast<size_t>(width) * height, 0)
-  , levels_(runs_.size(), -1.0f)
+  , intensities_(runs_.size(), -1.0f)
 {
   next_update_ = static_cast<uint64_t>(std::max(1, params.min_learning_runs));
   if (params.enabled && params.contrast_threshold > 0)
@@ -33,6 +33,13 @@ void EdgeRunModel::useThreshold(double threshold)
   threshold_ = threshold;
   low_ = 0.5 * threshold;
   high_ = std::max(low_, std::log(params_.edge_contrast_ratio) - 0.5 * threshold);
+  exp_low_ = std::exp(low_);
+  exp_high_ = std::exp(high_);
+  low_step_ = std::exp(low_ + threshold_);
+  high_step_ = std::exp(high_ - threshold_);
+  step_up_ = std::exp(threshold_);
+  step_down_ = std::exp(-threshold_);
+  inverse_ratio_span_ = 1.0 / (params_.edge_contrast_ratio - 1.0);
   active_ = true;
 }
 
@@ -53,6 +60,6 @@ void EdgeRunModel::recordCompletedRun(int length)
 void EdgeRunModel::resetRuns()
 {
   std::fill(runs_.begin(), runs_.end(), 0);
-  std::fill(levels_.begin(), levels_.end(), -1.0f);
+  std::fill(intensities_.begin(), intensities_.end(), -1.0f);
 }
 }  // namespace dvs_line_tracker

@@ -104,6 +104,29 @@ bool factorDampedInformation(const SegmentNormalEquations* eqs, int n, double da
       f.L[i][j] = s * f.inv_diag[j];
     }
   }
+  // The inverse, L^-T D^-1 L^-1, so that each solve is one matrix-vector product (the two
+  // triangular substitutions were a dependency chain per solve; the inverse is made once per
+  // factor and serves factor_every_solves solves).
+  double li[6][6];  // L^-1, unit lower triangular
+  for (int j = 0; j < 6; ++j)
+  {
+    li[j][j] = 1.0;
+    for (int i = j + 1; i < 6; ++i)
+    {
+      double s = -f.L[i][j];
+      for (int k = j + 1; k < i; ++k)
+        s -= f.L[i][k] * li[k][j];
+      li[i][j] = s;
+    }
+  }
+  for (int a = 0; a < 6; ++a)
+    for (int b = 0; b <= a; ++b)
+    {
+      double s = 0;
+      for (int k = a; k < 6; ++k)
+        s += li[k][a] * f.inv_diag[k] * li[k][b];
+      f.inverse(a, b) = f.inverse(b, a) = s;
+    }
   f.valid = true;
   return true;
 }
@@ -126,22 +149,7 @@ bool solveWithFactor(const DampedFactor& f, const Vector6d& g, Vector6d& delta)
 {
   if (!f.valid)
     return false;
-  // L D L^T delta = -g: forward substitution (unit diagonal), scaling by D^-1, backward.
-  double y[6];
-  for (int i = 0; i < 6; ++i)
-  {
-    double s = -g[i];
-    for (int c = 0; c < i; ++c)
-      s -= f.L[i][c] * y[c];
-    y[i] = s;
-  }
-  for (int i = 5; i >= 0; --i)
-  {
-    double s = y[i] * f.inv_diag[i];
-    for (int r = i + 1; r < 6; ++r)
-      s -= f.L[r][i] * delta[r];
-    delta[i] = s;
-  }
+  delta.noalias() = -(f.inverse * g);
   return delta.allFinite();
 }
 

@@ -26,7 +26,8 @@
 // a prior C is used (events placed with the model from the start measured better than with the
 // constant offset, even with the prior 17 % off either way or 50 % too high; BENCHMARKS.md).
 //
-// Per event: five bytes of state per pixel and one exp; nothing allocates.
+// Per event: five bytes of state per pixel and one multiplication (the pixel's intensity is kept
+// rather than its log level: no exp per event); nothing allocates.
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -69,13 +70,15 @@ public:
       ++run;
     if (!active_)
       return params_.constant_offset_px;
-    float& level = levels_[i];
-    // A new run restarts from the saturated bound after a full sweep (or in a fresh pixel), and
-    // continues from the previous run's end after a partial one.
-    if (new_run && (level < 0 || (polarity ? level <= low_ + threshold_ : level >= high_ - threshold_)))
-      level = static_cast<float>(polarity ? low_ : high_);
-    level = static_cast<float>(std::fmin(high_, std::fmax(low_, level + (polarity ? threshold_ : -threshold_))));
-    return offsetAtLevel(level);
+    // The pixel's intensity relative to dark, exp(level): one multiplication per event instead
+    // of an exp. A new run restarts from the saturated bound after a full sweep (or in a fresh
+    // pixel), and continues from the previous run's end after a partial one.
+    float& intensity = intensities_[i];
+    if (new_run && (intensity < 0 || (polarity ? intensity <= low_step_ : intensity >= high_step_)))
+      intensity = static_cast<float>(polarity ? exp_low_ : exp_high_);
+    intensity = static_cast<float>(
+        std::fmin(exp_high_, std::fmax(exp_low_, intensity * (polarity ? step_up_ : step_down_))));
+    return offsetAtIntensity(intensity);
   }
 
   /// The offset of the k-th event (k >= 1) of a run that started from saturation, for threshold
@@ -95,23 +98,23 @@ public:
   void resetRuns();
 
 private:
-  /// Edge offset (px, towards the bright side) when the pixel's log level is `level` above dark.
-  double offsetAtLevel(double level) const
-  {
-    // exp - 1 rather than expm1: the level is at least C/2 above 0, so nothing cancels, and
-    // exp costs a quarter of expm1 (it was 4 % of the tracker's profile).
-    return 0.5 - (std::exp(level) - 1.0) / (params_.edge_contrast_ratio - 1.0);
-  }
+  /// Edge offset (px, towards the bright side) when the pixel's intensity is `intensity` times
+  /// the dark one (exp of its log level; at least exp(C/2), so nothing cancels in - 1).
+  double offsetAtIntensity(double intensity) const { return 0.5 - (intensity - 1.0) * inverse_ratio_span_; }
   void recordCompletedRun(int length);
   void useThreshold(double threshold);
 
   EdgeRunModelParams params_;
   int width_;
   std::vector<uint8_t> runs_;   ///< per pixel: polarity (bit 7), length of its current run (bits 0-6)
-  std::vector<float> levels_;   ///< per pixel: log level at its last event; < 0: no event yet
+  std::vector<float> intensities_;  ///< per pixel: exp(log level above dark) at its last event; < 0: no event yet
   bool active_ = false;
   bool learned_ = false;
   double threshold_ = 0, low_ = 0, high_ = 0;
+  // The same in intensity (exp of the levels): the bounds, the bounds one step inside, one
+  // step up and down, and 1 / (rho - 1).
+  double exp_low_ = 1, exp_high_ = 1, low_step_ = 1, high_step_ = 1, step_up_ = 1, step_down_ = 1;
+  double inverse_ratio_span_ = 0;
   double run_length_sum_ = 0;
   uint64_t completed_runs_ = 0;
   uint64_t next_update_ = 0;  ///< completed-run count at which the learned threshold is refreshed

@@ -66,6 +66,7 @@ struct DampedFactor
 {
   double L[6][6];        ///< unit lower triangular: the entries strictly below the diagonal
   double inv_diag[6];    ///< 1 / D(j)
+  Matrix6d inverse = Matrix6d::Zero();  ///< (L D L^T)^-1
   Vector6d information_diagonal = Vector6d::Zero();  ///< the diagonal of the sum H_i factored (undamped)
   bool valid = false;
 };
@@ -75,6 +76,6 @@ bool factorDampedInformation(const SegmentNormalEquations* eqs, int n, double da
 /// The gradient of the active segments carried to `x_now` (sum g_i + H_i (x_now - x_lin_i));
 /// false when none is active.
 bool gradientAt(const SegmentNormalEquations* eqs, int n, const Vector6d& x_now, Vector6d& g);
-/// delta = -(L D L^T)^-1 g; false when `f` is invalid or the result is not finite.
+/// delta = -(L D L^T)^-1 g (the factor's inverse times g); false when `f` is invalid or the result is not finite.
 bool solveWithFactor(const DampedFactor& f, const Vector6d& g, Vector6d& delta);
 }  // namespace dvs_line_tracker
