@@ -38,16 +38,6 @@ void usage()
                keys.c_str());
 }
 
-bool parseInt(const std::string& text, int lo, int hi, int& out)
-{
-  char* end = nullptr;
-  const long v = std::strtol(text.c_str(), &end, 10);
-  if (text.empty() || !end || *end || v < lo || v > hi)
-    return false;
-  out = static_cast<int>(v);
-  return true;
-}
-
 struct Job
 {
   const AccuracyClass* cls;
@@ -73,9 +63,9 @@ int main(int argc, char** argv)
       {
         const std::string v = argv[++i];
         const size_t dash = v.find('-');
-        ok = dash == std::string::npos ? parseInt(v, 0, 1000000, seed_from) && parseInt(v, 0, 1000000, seed_to)
-                                       : parseInt(v.substr(0, dash), 0, 1000000, seed_from) &&
-                                             parseInt(v.substr(dash + 1), 0, 1000000, seed_to) && seed_to >= seed_from;
+        ok = dash == std::string::npos ? parseIntInRange(v, 0, 1000000, seed_from) && parseIntInRange(v, 0, 1000000, seed_to)
+                                       : parseIntInRange(v.substr(0, dash), 0, 1000000, seed_from) &&
+                                             parseIntInRange(v.substr(dash + 1), 0, 1000000, seed_to) && seed_to >= seed_from;
       }
       else if (ok && arg == "--class")
       {
@@ -84,7 +74,7 @@ int main(int argc, char** argv)
           classes.push_back(&accuracyClass(key));
       }
       else if (ok && arg == "--jobs")
-        ok = parseInt(argv[++i], 1, 16, jobs);
+        ok = parseIntInRange(argv[++i], 1, 16, jobs);
       else if (ok && arg == "--params")
         loadTrackerParamsYaml(argv[++i], params);
       else if (ok && arg == "--out")

@@ -30,16 +30,6 @@ void usage()
                        "       [--dump DIR (with --scene: write its events.txt, groundtruth.txt, calib.txt, map.yaml)]\n");
 }
 
-bool parseInt(const char* text, int lo, int hi, int& out)
-{
-  char* end = nullptr;
-  const long v = std::strtol(text, &end, 10);
-  if (!end || *end || v < lo || v > hi)
-    return false;
-  out = static_cast<int>(v);
-  return true;
-}
-
 }  // namespace
 
 int main(int argc, char** argv)
@@ -51,11 +41,11 @@ int main(int argc, char** argv)
   {
     bool ok = i + 1 < argc;
     if (ok && !std::strcmp(argv[i], "--scenes"))
-      ok = parseInt(argv[++i], 1, 10000, count);
+      ok = parseIntInRange(argv[++i], 1, 10000, count);
     else if (ok && !std::strcmp(argv[i], "--jobs"))
-      ok = parseInt(argv[++i], 1, 16, jobs);
+      ok = parseIntInRange(argv[++i], 1, 16, jobs);
     else if (ok && !std::strcmp(argv[i], "--scene"))
-      ok = parseInt(argv[++i], 0, 9999, only);
+      ok = parseIntInRange(argv[++i], 0, 9999, only);
     else if (ok && !std::strcmp(argv[i], "--dump"))
       dump = argv[++i];
     else if (ok && !std::strcmp(argv[i], "--params"))

@@ -136,14 +136,11 @@ int main(int argc, char** argv)
     const bool has_value = i + 1 < argc;
     if (has_value && !std::strcmp(argv[i], "--runs"))
     {
-      char* end = nullptr;
-      const long v = std::strtol(argv[++i], &end, 10);
-      if (!end || *end || v < 1 || v > 1000)
+      if (!parseIntInRange(argv[++i], 1, 1000, runs))
       {
         std::fprintf(stderr, "benchmark_speed: --runs must be 1-1000 (got '%s')\n", argv[i]);
         return 2;
       }
-      runs = static_cast<int>(v);
     }
     else if (has_value && !std::strcmp(argv[i], "--params"))
     {

@@ -1,12 +1,13 @@
 #pragma once
-// Plumbing shared by the tracker benchmarks (ROS-free): `--params tracker.yaml` and an output
-// folder, each failing with a message that names the program (the callers exit with 2 / 1), and
+// Plumbing shared by the tracker benchmarks (ROS-free): whole-number options, `--params
+// tracker.yaml` and an output folder, each failing with a message that names the program (the callers exit with 2 / 1), and
 // a work queue over `--jobs` threads.
 #include <dvs_line_tracker/tracker_params.h>
 
 #include <algorithm>
 #include <atomic>
 #include <cstdio>
+#include <cstdlib>
 #include <exception>
 #include <filesystem>
 #include <string>
@@ -16,6 +17,18 @@
 
 namespace dvs_line_tracker
 {
+/// A whole number in [lo, hi] (decimal, nothing else in `text`) into `out`; false otherwise
+/// (an empty text too).
+inline bool parseIntInRange(const std::string& text, int lo, int hi, int& out)
+{
+  char* end = nullptr;
+  const long v = std::strtol(text.c_str(), &end, 10);
+  if (text.empty() || !end || *end || v < lo || v > hi)
+    return false;
+  out = static_cast<int>(v);
+  return true;
+}
+
 /// loadTrackerParamsYaml(path, params); false (the error printed as "program: what") when the
 /// file is missing or wrong.
 inline bool loadParamsOption(const char* program, const char* path, LineTrackerParams& params)

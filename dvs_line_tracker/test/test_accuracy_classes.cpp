@@ -1,7 +1,8 @@
 // The accuracy classes of issue 15 (benchmark_accuracy): every class resolves to a valid
 // simulation with the map it is meant to have, an unknown class is named, and the low-contrast
-// class is tracked end to end on the software DVS.
+// class is tracked end to end on the software DVS; the benchmarks' whole-number options.
 #include "accuracy_classes.h"
+#include "benchmark_tool.h"
 
 #include <gtest/gtest.h>
 
@@ -53,4 +54,19 @@ TEST(AccuracyClasses, LowContrastFlipIsTracked)
   EXPECT_DOUBLE_EQ(run.accuracy.trackedFraction(), 1.0);
   EXPECT_LT(run.accuracy.rms_position_m, 0.030);
   EXPECT_EQ(run.stats.losses, 0u);
+}
+
+TEST(BenchmarkTool, WholeNumberOptionsTakeOnlyDecimalsInRange)
+{
+  int v = -7;
+  EXPECT_TRUE(parseIntInRange("5", 1, 1000, v));
+  EXPECT_EQ(v, 5);
+  EXPECT_TRUE(parseIntInRange("1000", 1, 1000, v));
+  EXPECT_EQ(v, 1000);
+  for (const char* bad : {"", "0", "1001", "x", "5x", "2.5", "-3", " "})
+  {
+    v = -7;
+    EXPECT_FALSE(parseIntInRange(bad, 1, 1000, v)) << "'" << bad << "'";
+    EXPECT_EQ(v, -7) << "'" << bad << "' changed the value";
+  }
 }
