@@ -165,6 +165,8 @@ public:
     , offsets_(capacity, 0.0)
     , weights_(capacity, 0.0)
     , stamps_(capacity, 0)
+    , older_(capacity, -1)
+    , newer_(capacity, -1)
     , offset_now_(capacity, 0.0)
     , along_now_(capacity, 0.0)
   {
@@ -184,6 +186,7 @@ public:
   void clear()
   {
     size_ = 0;
+    oldest_ = newest_ = -1;
     moments_ = PointMoments();
     has_reference_ = false;
   }
@@ -205,6 +208,7 @@ public:
     {
       const int slot = closestOrOldest(seg, seg.dir.dot(p - seg.a));
       moments_.add(point(slot), weights_[slot], -1.0);
+      unlinkAge(slot);
       return store(slot, p, offset_new, weight_new);
     }
     ++examinations_;
@@ -218,6 +222,7 @@ public:
     {
       slot = replacementSlot(seg, seg.dir.dot(p - seg.a), max_orthogonal_px, max_parallel_px);
       moments_.add(point(slot), weights_[slot], -1.0);
+      unlinkAge(slot);
       store(slot, p, offset_new, weight_new);
     }
     setReference(seg);
@@ -328,11 +333,7 @@ private:
     }
     if (best < 0.5 * seg.length / capacity())
       return closest;
-    int oldest = 0;
-    for (int i = 1; i < n; ++i)
-      if (stamps_[i] < stamps_[oldest])
-        oldest = i;
-    return oldest;
+    return oldest_;  // the least stamp (the age list is in insertion order)
   }
 
   /// True when, by the reference box, no stored event can be stale against `seg` (beyond
@@ -414,8 +415,17 @@ private:
   }
 
   int append(const Eigen::Vector2d& p, double offset, double weight) { return store(size_++, p, offset, weight); }
+  /// Write the event into `slot` (appended, or unlinked from the age list before) and make it
+  /// the newest.
   int store(int slot, const Eigen::Vector2d& p, double offset, double weight)
   {
+    older_[slot] = newest_;
+    newer_[slot] = -1;
+    if (newest_ >= 0)
+      newer_[newest_] = slot;
+    else
+      oldest_ = slot;
+    newest_ = slot;
     x_[slot] = p.x();
     y_[slot] = p.y();
     offsets_[slot] = offset;
@@ -429,17 +439,31 @@ private:
     return slot;
   }
 
-  /// Remove stored event `i` (the last one takes its slot).
+  /// Remove stored event `i` (the last one takes its slot, and its place in the age list).
   void removeAt(int i)
   {
     moments_.add(point(i), weights_[i], -1.0);
     ++changes_since_refresh_;
+    unlinkAge(i);
     --size_;
+    if (i == size_)
+      return;
     x_[i] = x_[size_];
     y_[i] = y_[size_];
     offsets_[i] = offsets_[size_];
     weights_[i] = weights_[size_];
     stamps_[i] = stamps_[size_];
+    older_[i] = older_[size_];
+    newer_[i] = newer_[size_];
+    (older_[i] >= 0 ? newer_[older_[i]] : oldest_) = i;
+    (newer_[i] >= 0 ? older_[newer_[i]] : newest_) = i;
+  }
+
+  /// Take slot `i` out of the age list (its neighbours close up).
+  void unlinkAge(int i)
+  {
+    (older_[i] >= 0 ? newer_[older_[i]] : oldest_) = newer_[i];
+    (newer_[i] >= 0 ? older_[newer_[i]] : newest_) = older_[i];
   }
 
   /// Recompute the moments from the points (bounds the rounding drift of the running sums).
@@ -455,6 +479,10 @@ private:
   std::vector<double> offsets_;  ///< signed distance to the projected line when inserted
   std::vector<double> weights_;  ///< Huber weight fixed at insertion
   std::vector<uint64_t> stamps_;
+  // The stored events in insertion order (a doubly linked list over the slots, oldest first), so
+  // that the oldest is known without a pass over the stamps.
+  std::vector<int> older_, newer_;
+  int oldest_ = -1, newest_ = -1;
   std::vector<double> offset_now_, along_now_;  ///< per insert: each event's offset from / position along the line now
   // The reference line and the box [s_lo_, s_hi_] x [o_lo_, o_hi_] holding every stored event
   // in its frame (along ref_dir_ and ref_normal_ from ref_a_); the largest motion of an event
