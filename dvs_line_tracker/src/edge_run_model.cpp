@@ -31,12 +31,13 @@ double EdgeRunModel::runOffset(bool polarity, int k, double threshold, double co
 void EdgeRunModel::useThreshold(double threshold)
 {
   threshold_ = threshold;
-  low_ = 0.5 * threshold;
-  high_ = std::max(low_, std::log(params_.edge_contrast_ratio) - 0.5 * threshold);
-  exp_low_ = std::exp(low_);
-  exp_high_ = std::exp(high_);
-  low_step_ = std::exp(low_ + threshold_);
-  high_step_ = std::exp(high_ - threshold_);
+  // The log level's bounds above dark: half a step inside the saturated levels.
+  const double low = 0.5 * threshold;
+  const double high = std::max(low, std::log(params_.edge_contrast_ratio) - 0.5 * threshold);
+  exp_low_ = std::exp(low);
+  exp_high_ = std::exp(high);
+  low_step_ = std::exp(low + threshold);
+  high_step_ = std::exp(high - threshold);
   step_up_ = std::exp(threshold_);
   step_down_ = std::exp(-threshold_);
   inverse_ratio_span_ = 1.0 / (params_.edge_contrast_ratio - 1.0);

@@ -110,8 +110,8 @@ private:
   std::vector<float> intensities_;  ///< per pixel: exp(log level above dark) at its last event; < 0: no event yet
   bool active_ = false;
   bool learned_ = false;
-  double threshold_ = 0, low_ = 0, high_ = 0;
-  // The same in intensity (exp of the levels): the bounds, the bounds one step inside, one
+  double threshold_ = 0;
+  // In intensity (exp of the log level above dark): the bounds, the bounds one step inside, one
   // step up and down, and 1 / (rho - 1).
   double exp_low_ = 1, exp_high_ = 1, low_step_ = 1, high_step_ = 1, step_up_ = 1, step_down_ = 1;
   double inverse_ratio_span_ = 0;
