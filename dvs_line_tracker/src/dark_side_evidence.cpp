@@ -14,6 +14,25 @@ DarkSideEvidence::DarkSideEvidence(const LineMap& map) : map_(map)
     for (int id : map.polygons[j].segment_ids)
       segment_polygon_[id] = static_cast<int>(j);
   last_projection_.resize(n);
+  inside_along_normal_.assign(n, 1.0);
+}
+
+void DarkSideEvidence::updateInsides(const std::vector<ProjectedSegment>& projected)
+{
+  for (size_t i = 0; i < inside_along_normal_.size(); ++i)
+  {
+    const int poly = segment_polygon_[i];
+    if (poly < 0)
+      continue;
+    // Convex polygons: the inside is the side of the projected centroid of the corners.
+    const auto& ids = map_.polygons[poly].segment_ids;
+    Eigen::Vector2d centre = Eigen::Vector2d::Zero();
+    for (int id : ids)
+      centre += projected[id].a + projected[id].b;
+    centre /= 2.0 * ids.size();
+    const ProjectedSegment& s = projected[i];
+    inside_along_normal_[i] = s.normal.dot(centre - s.a) >= 0 ? 1.0 : -1.0;
+  }
 }
 
 void DarkSideEvidence::clear() { std::fill(score_.begin(), score_.end(), 0.0); }
@@ -29,20 +48,8 @@ Eigen::Vector2d DarkSideEvidence::correct(const Eigen::Vector2d& p, bool polarit
   last.a = s.a;
   last.normal = s.normal;
   const int poly = segment_polygon_[i];
-  double inside_along_normal = 1.0;  // +1: the polygon's inside is along +normal (segments in no polygon: +1)
-  int slot = static_cast<int>(map_.polygons.size()) + i;
-  if (poly >= 0)
-  {
-    // Convex polygons: the inside is the side of the projected centroid of the corners.
-    const auto& ids = map_.polygons[poly].segment_ids;
-    Eigen::Vector2d centre = Eigen::Vector2d::Zero();
-    for (int id : ids)
-      centre += projected[id].a + projected[id].b;
-    centre /= 2.0 * ids.size();
-    inside_along_normal = s.normal.dot(centre - s.a) >= 0 ? 1.0 : -1.0;
-    slot = poly;
-  }
-  double& score = score_[slot];
+  const double inside_along_normal = inside_along_normal_[i];  // updateInsides()
+  double& score = score_[poly >= 0 ? poly : static_cast<int>(map_.polygons.size()) + i];
   score += (polarity ? 1.0 : -1.0) * moved * inside_along_normal;
   // Trusted once the edges have moved about a pixel consistently.
   constexpr double kMinScore = 1.0;

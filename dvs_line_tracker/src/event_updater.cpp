@@ -199,6 +199,7 @@ void EventUpdater::expireStaleEvents(EstimatorState& state, int i) const
 void EventUpdater::refresh(EstimatorState& state)
 {
   geometry_.project(state.pose, true, state.projected);
+  dark_side_.updateInsides(state.projected);
   // Segments that moved without producing events (e.g. an edge leaving the view) would keep
   // their stale events: drop them here too, not only when the segment receives an event.
   for (size_t i = 0; i < state.buffers.size(); ++i)

@@ -21,7 +21,15 @@ public:
   explicit DarkSideEvidence(const LineMap& map);
 
   /// Tracking (re)starts with these projections as every segment's previous one.
-  void restart(const std::vector<ProjectedSegment>& projected) { last_projection_ = projected; }
+  void restart(const std::vector<ProjectedSegment>& projected)
+  {
+    last_projection_ = projected;
+    updateInsides(projected);
+  }
+  /// Which side of each segment its polygon's inside lies on, from these projections (the side
+  /// of the projected centroid of its corners). It changes only when a polygon's projection turns
+  /// over (seen edge-on), so it is refreshed at every quality check, not per event.
+  void updateInsides(const std::vector<ProjectedSegment>& projected);
   /// Forget the evidence.
   void clear();
 
@@ -34,6 +42,7 @@ private:
   const LineMap& map_;
   std::vector<double> score_;                   ///< per polygon, then per segment (index polygons + segment)
   std::vector<int> segment_polygon_;            ///< first polygon holding the segment, -1 if none
+  std::vector<double> inside_along_normal_;     ///< per segment: +1 when its polygon's inside lies along +normal (no polygon: +1)
   std::vector<ProjectedSegment> last_projection_;  ///< the segment's projection at its previous event
 };
 }  // namespace dvs_line_tracker
