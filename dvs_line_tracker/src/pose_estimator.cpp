@@ -85,23 +85,23 @@ bool factorDampedInformation(const SegmentNormalEquations* eqs, int n, double da
   H.diagonal().array() += 1e-9;
   // L D L^T (L unit lower triangular), written out for the fixed size: no square roots, so
   // the chain from column to column is one division (Eigen's LDLT pivots and runs generic
-  // loops). The lower triangle of H is read; f.L(i, c) * D(c) is kept in `ld` for the updates.
-  double ld[6][6];
+  // loops). The lower triangle of H is read; L(i, c) * D(c) is kept in `ld` for the updates.
+  double L[6][6], ld[6][6], inv_diag[6];
   for (int j = 0; j < 6; ++j)
   {
     double d = H(j, j);
     for (int c = 0; c < j; ++c)
-      d -= f.L[j][c] * ld[j][c];
+      d -= L[j][c] * ld[j][c];
     if (!(d > 0))
       return false;
-    f.inv_diag[j] = 1.0 / d;
+    inv_diag[j] = 1.0 / d;
     for (int i = j + 1; i < 6; ++i)
     {
       double s = H(i, j);
       for (int c = 0; c < j; ++c)
-        s -= f.L[i][c] * ld[j][c];
+        s -= L[i][c] * ld[j][c];
       ld[i][j] = s;
-      f.L[i][j] = s * f.inv_diag[j];
+      L[i][j] = s * inv_diag[j];
     }
   }
   // The inverse, L^-T D^-1 L^-1, so that each solve is one matrix-vector product (the two
@@ -113,9 +113,9 @@ bool factorDampedInformation(const SegmentNormalEquations* eqs, int n, double da
     li[j][j] = 1.0;
     for (int i = j + 1; i < 6; ++i)
     {
-      double s = -f.L[i][j];
+      double s = -L[i][j];
       for (int k = j + 1; k < i; ++k)
-        s -= f.L[i][k] * li[k][j];
+        s -= L[i][k] * li[k][j];
       li[i][j] = s;
     }
   }
@@ -124,7 +124,7 @@ bool factorDampedInformation(const SegmentNormalEquations* eqs, int n, double da
     {
       double s = 0;
       for (int k = a; k < 6; ++k)
-        s += li[k][a] * f.inv_diag[k] * li[k][b];
+        s += li[k][a] * inv_diag[k] * li[k][b];
       f.inverse(a, b) = f.inverse(b, a) = s;
     }
   f.valid = true;

@@ -59,13 +59,11 @@ bool linearizeSegment(const PinholeK& k, const Pose& pose, const Eigen::Vector3d
 /// `x_now`. Returns false when there is nothing to solve.
 bool solveStep(const SegmentNormalEquations* eqs, int n, const Vector6d& x_now, double damping, Vector6d& delta);
 
-/// The factors L D L^T of the damped information matrix sum H_i (diagonal scaled by
-/// 1 + damping): solveStep in parts, so that a factor can serve several steps while the
-/// information changes little (only the gradient is then assembled per step).
+/// The damped information matrix sum H_i (diagonal scaled by 1 + damping), factored (L D L^T)
+/// and kept as its inverse: solveStep in parts, so that a factor can serve several steps while
+/// the information changes little (only the gradient is then assembled per step).
 struct DampedFactor
 {
-  double L[6][6];        ///< unit lower triangular: the entries strictly below the diagonal
-  double inv_diag[6];    ///< 1 / D(j)
   Matrix6d inverse = Matrix6d::Zero();  ///< (L D L^T)^-1
   Vector6d information_diagonal = Vector6d::Zero();  ///< the diagonal of the sum H_i factored (undamped)
   bool valid = false;
