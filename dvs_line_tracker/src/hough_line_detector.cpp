@@ -86,6 +86,9 @@ HoughLineDetector::HoughLineDetector(int width, int height, const HoughParams& p
     throw std::invalid_argument("HoughLineDetector: bin sizes must be positive (angle <= 90 deg)");
   if (params.window_events < 1)
     throw std::invalid_argument("HoughLineDetector: window_events must be >= 1");
+  if (!(params.max_event_age_s >= 0) || params.max_event_age_s > 1e6)
+    throw std::invalid_argument("HoughLineDetector: max_event_age_s must be in [0, 1e6] s");
+  max_age_ns_ = static_cast<int64_t>(std::llround(params.max_event_age_s * 1e9));
   num_theta_ = static_cast<int>(std::lround(180.0 / params.angle_bin_deg));
   cx_ = (width - 1) / 2.0;
   cy_ = (height - 1) / 2.0;
@@ -105,7 +108,9 @@ HoughLineDetector::HoughLineDetector(int width, int height, const HoughParams& p
   index_ = LinePointIndex(num_theta_, r_max_, params.radius_bin_px, Eigen::Vector2d(cx_, cy_));
   window_.resize(params.window_events);
   window_pixel_.assign(params.window_events, -1);
+  window_t_.assign(params.window_events, 0);
   evidence_.resize(std::max(params.window_events, params.evidence_events));
+  evidence_t_.assign(evidence_.size(), 0);
   in_window_.assign(static_cast<size_t>(width) * height, 0);
 }
 
@@ -131,8 +136,32 @@ void HoughLineDetector::vote(float x, float y, int increment, std::vector<int>& 
   }
 }
 
-bool HoughLineDetector::addEvent(float x_ideal, float y_ideal, int sx, int sy, int64_t /*t_ns*/)
+void HoughLineDetector::expireBefore(int64_t t_ns)
 {
+  const int capacity = static_cast<int>(window_.size());
+  while (window_count_ > 0)
+  {
+    const int oldest = (window_head_ - window_count_ + capacity) % capacity;
+    if (window_t_[oldest] >= t_ns)
+      break;
+    vote(window_[oldest].x(), window_[oldest].y(), -1, acc_);
+    if (window_pixel_[oldest] >= 0)
+      in_window_[window_pixel_[oldest]] = 0;
+    window_pixel_[oldest] = -1;
+    --window_count_;
+  }
+  const int evidence_capacity = static_cast<int>(evidence_.size());
+  while (evidence_count_ > 0 &&
+         evidence_t_[(evidence_head_ - evidence_count_ + evidence_capacity) % evidence_capacity] < t_ns)
+    --evidence_count_;
+}
+
+bool HoughLineDetector::addEvent(float x_ideal, float y_ideal, int sx, int sy, int64_t t_ns)
+{
+  // Every event, voted or not, moves the age limit on (a pause in the events then empties the
+  // window when they resume).
+  if (max_age_ns_ > 0)
+    expireBefore(t_ns - max_age_ns_);
   // Every event on the sensor counts towards the neighbours' activity; the filter needs its
   // neighbours to have fired shortly before (events without a sensor pixel are not filtered).
   const bool on_sensor = sx >= 0 && sy >= 0 && sx < width_ && sy < height_;
@@ -154,11 +183,13 @@ bool HoughLineDetector::addEvent(float x_ideal, float y_ideal, int sx, int sy, i
     ++window_count_;
   window_[window_head_] = Eigen::Vector2f(x_ideal, y_ideal);
   window_pixel_[window_head_] = pixel;
+  window_t_[window_head_] = t_ns;
   if (on_sensor)
     in_window_[pixel] = 1;
   window_head_ = (window_head_ + 1) % capacity;
   vote(x_ideal, y_ideal, +1, acc_);
   evidence_[evidence_head_] = Eigen::Vector2f(x_ideal, y_ideal);
+  evidence_t_[evidence_head_] = t_ns;
   evidence_head_ = (evidence_head_ + 1) % static_cast<int>(evidence_.size());
   evidence_count_ = std::min(evidence_count_ + 1, static_cast<int>(evidence_.size()));
   return true;
@@ -195,7 +226,7 @@ std::vector<Eigen::Vector2d> ringPoints(const std::vector<Eigen::Vector2f>& ring
   std::vector<Eigen::Vector2d> points;
   points.reserve(count);
   const int capacity = static_cast<int>(ring.size());
-  const int start = count == capacity ? head : 0;
+  const int start = (head - count + capacity) % capacity;  // the oldest (the age limit may have dropped some)
   for (int i = 0; i < count; ++i)
     points.push_back(ring[(start + i) % capacity].cast<double>());
   return points;

@@ -45,6 +45,9 @@ dvs_driver::ParamTable trackerParamTable(LineTrackerParams& p, std::string& solv
         "(the neighbour filter's horizon by pixels/128^2)");
   t.add("init_evidence_windows", p.init_evidence_windows, "", 1, 100,
         "side coverage is validated on this many Hough windows of the latest voted events");
+  t.add("init_max_event_age", p.hough.max_event_age_s, "s", 0, 1e6,
+        "voted events this much older than the latest stop voting and are no longer evidence (0: no limit): "
+        "a slow scene's window otherwise still holds what the camera saw seconds before");
   t.add("reacquire_prior", p.reacquire_prior_s, "s", 0, 3600,
         "after a loss, the last tracked pose is tried first for this long (0: off)");
   t.add("max_event_gap", p.max_event_gap_s, "s", 0, 3600,

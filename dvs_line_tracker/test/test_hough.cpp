@@ -80,6 +80,53 @@ TEST(Hough, SlidingWindowForgetsOldVotes)
   EXPECT_NEAR(segs[0].p0.y(), 90.0, 0.5);
 }
 
+
+TEST(Hough, EventsOlderThanTheAgeLimitStopVotingAndAreNoEvidence)
+{
+  // A slow scene's count window would otherwise still hold what the camera saw seconds before
+  // (screen_sim's alignment grid, whose rows of dots made a false square 7 s later).
+  HoughParams p;
+  p.neighbour_filter = false;
+  p.evidence_events = 3000;
+  EXPECT_DOUBLE_EQ(p.max_event_age_s, 3.0);  // the default
+  p.max_event_age_s = 1.0;
+  HoughLineDetector h(128, 128, p);
+  int64_t t = 0;
+  addSegmentEvents(h, {10, 20}, {110, 20}, t);  // 101 events around t = 0
+  t = 600000000;                                // 0.6 s
+  addSegmentEvents(h, {10, 90}, {110, 90}, t);  // 101 events around 0.6 s
+  EXPECT_EQ(h.numWindowEvents(), 202);
+  EXPECT_EQ(h.detectSegments().size(), 2u);
+  // An event at 1.3 s: the first line (older than 0.3 s) is forgotten, the second is not.
+  h.addEvent(64, 64, 64, 64, 1300000000);
+  EXPECT_EQ(h.numWindowEvents(), 102);
+  const auto window = h.windowPoints();
+  ASSERT_EQ(window.size(), 102u);
+  EXPECT_NEAR(window.front().y(), 90.0, 1e-9);  // oldest first
+  EXPECT_NEAR(window.back().x(), 64.0, 1e-9);
+  EXPECT_EQ(h.evidencePoints().size(), 102u);
+  const auto segs = h.detectSegments();
+  ASSERT_EQ(segs.size(), 1u);
+  EXPECT_NEAR(segs[0].p0.y(), 90.0, 0.5);
+  // A new line fills the freed window slots in order, and a pause empties the window.
+  t = 1400000000;
+  addSegmentEvents(h, {20, 10}, {20, 110}, t);
+  EXPECT_EQ(h.numWindowEvents(), 203);
+  EXPECT_NEAR(h.windowPoints().front().y(), 90.0, 1e-9);
+  h.addEvent(64, 64, 64, 64, 5000000000);
+  EXPECT_EQ(h.numWindowEvents(), 1);
+  EXPECT_TRUE(h.detectSegments().empty());
+
+  // 0: no age limit, only the count window.
+  p.max_event_age_s = 0;
+  HoughLineDetector unlimited(128, 128, p);
+  t = 0;
+  addSegmentEvents(unlimited, {10, 20}, {110, 20}, t);
+  unlimited.addEvent(64, 64, 64, 64, 100000000000);
+  EXPECT_EQ(unlimited.numWindowEvents(), 102);
+  p.max_event_age_s = -1;
+  EXPECT_THROW(HoughLineDetector(128, 128, p), std::invalid_argument);
+}
 TEST(Hough, NeighbourFilterDropsIsolatedNoise)
 {
   HoughLineDetector h(128, 128);  // filter on by default: 2 of 8 neighbours among the last 500 events

@@ -19,6 +19,13 @@ Parameters:
                        suite's one metric (dvs_calibration's evaluate_trajectory) (default 0.05)
   ~max_angle_error     deg, mean orientation error, likewise (default 5)
   ~timeout             s to wait for everything (default 60)
+  ~dump_dir            if set (or the environment's CHECK_PIPELINE_DUMP): write the compared
+                       estimate and ground truth there as TUM files (estimate.tum,
+                       groundtruth.tum), to look at a run, e.g.
+                       CHECK_PIPELINE_DUMP=/tmp/run rostest dvs_launch screen_sim.test data_dir:=...
+
+The event, marker and TF subscriptions are dropped once they have shown what they check: the
+checker shares the machine with the pipeline it measures, and should load it as little as it can.
 """
 import bisect
 import os
@@ -47,11 +54,13 @@ def write_tum(path, rows):
             f.write("%.9f %.9f %.9f %.9f %.9f %.9f %.9f %.9f\n" % tuple(r))
 
 
-def tool_report(poses, gt_rows, until):
+def tool_report(poses, gt_rows, until, dump_dir=""):
     """dvs_calibration's evaluate_trajectory on the received poses and the ground truth up to
-    `until` (s): its JSON object."""
+    `until` (s): its JSON object. With dump_dir, the two TUM files are also written there."""
     with tempfile.TemporaryDirectory(prefix="check_pipeline_") as d:
-        est, gt = os.path.join(d, "estimate.tum"), os.path.join(d, "groundtruth.tum")
+        folder = dump_dir or d
+        os.makedirs(folder, exist_ok=True)
+        est, gt = os.path.join(folder, "estimate.tum"), os.path.join(folder, "groundtruth.tum")
         write_tum(est, [r for r in poses if r[0] <= until])
         write_tum(gt, [r for r in gt_rows if r[0] <= until])
         return evaluate_trajectory.run_tool(gt, est)
@@ -136,12 +145,13 @@ class PipelineTest(unittest.TestCase):
                              lambda m: self.gt.add(row_of(m)), queue_size=5000)
         self.tf_buffer = tf2_ros.Buffer(cache_time=rospy.Duration(30.0))
         self.tf_listener = tf2_ros.TransformListener(self.tf_buffer)
-        rospy.Subscriber(rospy.get_param("~events_topic", "/dvs/events"), rospy.AnyMsg, self.on_events,
-                         queue_size=1000)
+        self.dump_dir = rospy.get_param("~dump_dir", os.environ.get("CHECK_PIPELINE_DUMP", ""))
+        self.events_sub = rospy.Subscriber(rospy.get_param("~events_topic", "/dvs/events"), rospy.AnyMsg,
+                                           self.on_events, queue_size=1000)
         rospy.Subscriber(rospy.get_param("~pose_topic", "/dvs_line_tracker/pose"), PoseStamped, self.on_pose,
                          queue_size=2000)
-        rospy.Subscriber(rospy.get_param("~markers_topic", "/dvs_line_tracker/markers"), MarkerArray,
-                         self.on_markers, queue_size=10)
+        self.markers_sub = rospy.Subscriber(rospy.get_param("~markers_topic", "/dvs_line_tracker/markers"),
+                                            MarkerArray, self.on_markers, queue_size=10)
         # The tracker's latest diagnostics (state, initialiser counters), quoted when a check fails.
         self.tracker_diagnostics = "none received"
         rospy.Subscriber("/diagnostics", DiagnosticArray, self.on_diagnostics, queue_size=10)
@@ -186,12 +196,18 @@ class PipelineTest(unittest.TestCase):
 
     def test_pipeline(self):
         self.wait_for("events on the event topic", lambda: self.events > 0)
+        self.events_sub.unregister()
         if self.gt_from_topic:
             self.wait_for("ground truth on its topic", lambda: len(self.gt) > 0)
-        self.wait_for("%d per-event poses" % self.min_poses, lambda: len(self.poses) >= self.min_poses)
         self.wait_for("markers", lambda: len(self.markers) > 0)
+        self.markers_sub.unregister()
         self.wait_for("TF %s -> %s" % (self.world, self.camera),
                       lambda: self.tf_buffer.can_transform(self.world, self.camera, rospy.Time(0)))
+        # The TF agrees with the poses' frame convention: world -> dvs is the camera pose.
+        tf = self.tf_buffer.lookup_transform(self.world, self.camera, rospy.Time(0))
+        self.assertEqual(tf.header.frame_id.lstrip("/"), self.world)
+        self.tf_listener.unregister()
+        self.wait_for("%d per-event poses" % self.min_poses, lambda: len(self.poses) >= self.min_poses)
         self.assertTrue(self.pose_stamps_monotonic, "per-event pose stamps went backwards")
 
         # Accuracy: every received pose that has a ground-truth sample within the tolerance (2 ms).
@@ -214,7 +230,7 @@ class PipelineTest(unittest.TestCase):
                                 "; " + self.situation())
         # Accuracy through the suite's one metric (dvs_calibration's evaluate_trajectory): every
         # ground-truth sample from the first pose to the last compared one.
-        report = tool_report(poses, self.gt.rows_copy(), min(compare_until, poses[-1][0]))
+        report = tool_report(poses, self.gt.rows_copy(), min(compare_until, poses[-1][0]), self.dump_dir)
         rospy.loginfo("check_pipeline: %d events, %d ground-truth poses, %d poses (%d with ground truth; the first "
                       "pose %.2f s after the first ground truth); evaluate_trajectory: %s", self.events, len(self.gt),
                       len(self.poses), compared, self.poses[0][0] - self.gt.first_time(), report)
@@ -223,9 +239,6 @@ class PipelineTest(unittest.TestCase):
                         "mean position error %.3f m (%s)" % (report["mean_position_m"], report))
         self.assertLess(report["mean_orientation_deg"], float(rospy.get_param("~max_angle_error", 5.0)),
                         "mean orientation error %.2f deg (%s)" % (report["mean_orientation_deg"], report))
-        # The TF agrees with the poses' frame convention: world -> dvs is the camera pose.
-        tf = self.tf_buffer.lookup_transform(self.world, self.camera, rospy.Time(0))
-        self.assertEqual(tf.header.frame_id.lstrip("/"), self.world)
 
 
 if __name__ == "__main__":

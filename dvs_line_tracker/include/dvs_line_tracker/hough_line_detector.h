@@ -37,6 +37,10 @@ struct HoughParams
   int max_candidates = 150;             ///< candidates examined per detection, most votes first
   int max_segments = 40;                ///< longest segments kept per detection
   int evidence_events = 0;              ///< voted positions kept for validation beyond the window (0: the window)
+  /// Events this much older (event time) than the latest event stop voting and are no longer
+  /// evidence (0: no limit): a slow scene's window otherwise still holds what the camera saw
+  /// seconds before, e.g. screen_sim's alignment grid, whose rows of dots made a "square".
+  double max_event_age_s = 3.0;
   bool remove_found_votes = true;       ///< progressive Hough: a found segment's points stop voting for the rest of the detection (faster, see BENCHMARKS.md)
 };
 
@@ -114,12 +118,18 @@ private:
   double cx_, cy_;  // Hough origin (image centre)
   std::vector<double> cos_, sin_;
   std::vector<int> acc_;
+  /// Drops the window's and the evidence's events older than `t_ns` - max_event_age_s.
+  void expireBefore(int64_t t_ns);
+
   std::vector<Eigen::Vector2f> window_;  // ring buffer of voted positions
   std::vector<int32_t> window_pixel_;    // their sensor pixel index (-1: none)
+  std::vector<int64_t> window_t_;        // their times (ns)
   std::vector<uint8_t> in_window_;       // per sensor pixel: already voting
   int window_head_ = 0, window_count_ = 0;
   std::vector<Eigen::Vector2f> evidence_;  // ring buffer of the latest voted positions
+  std::vector<int64_t> evidence_t_;        // their times (ns)
   int evidence_head_ = 0, evidence_count_ = 0;
+  int64_t max_age_ns_ = 0;                 // max_event_age_s (0: no limit)
   NeighbourActivity activity_;  // the neighbour filter
   // detectSegments' scratch memory, reused between detections: the index of the window's
   // points, the votes not explained by a found segment yet, which points are explained.
