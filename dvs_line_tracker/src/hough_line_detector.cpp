@@ -233,6 +233,15 @@ std::vector<Eigen::Vector2d> ringPoints(const std::vector<Eigen::Vector2f>& ring
 }
 }  // namespace
 
+int64_t HoughLineDetector::timeOfLatest(int k) const
+{
+  if (window_count_ == 0)
+    return 0;
+  const int capacity = static_cast<int>(window_.size());
+  const int n = std::max(1, std::min(k, window_count_));
+  return window_t_[(window_head_ - n + capacity) % capacity];
+}
+
 std::vector<Eigen::Vector2d> HoughLineDetector::windowPoints() const
 {
   return ringPoints(window_, window_head_, window_count_);

@@ -21,6 +21,11 @@ const char* toString(TrackerState state)
 
 namespace
 {
+/// Events remembered while not tracking, for the catch-up at the start (init_catch_up): more
+/// than a 640x480 sensor's refinement window (1,732 voted events) and the noise filtered
+/// between them; when the window reaches further back, the catch-up starts at the oldest kept.
+constexpr size_t kCatchUpCapacity = 4096;
+
 const LineTrackerParams& validated(const LineTrackerParams& params, const LineMap& map)
 {
   const std::string err = validateParams(params);
@@ -77,6 +82,8 @@ LineTracker::LineTracker(const dvs_calibration::CameraModel& camera, const LineM
   , monitor_(params_, camera.width(), camera.height(), initializer_.houghParams().neighbour_filter_events)
 {
   estimator_.resize(map.segments.size(), params_.buffer_size);
+  if (params_.init_catch_up)
+    recent_.resize(kCatchUpCapacity);
   max_backwards_ns_ = static_cast<int64_t>(params_.max_time_backwards_s * 1e9);
   max_gap_ns_ = static_cast<int64_t>(params_.max_event_gap_s * 1e9);
 }
@@ -92,6 +99,7 @@ void LineTracker::reset()
   stats_ = TrackerStats();
   last_loss_reason_.clear();
   last_init_ns_ = 0;
+  recent_count_ = 0;
   have_time_ = false;
 }
 
@@ -131,8 +139,15 @@ bool LineTracker::processEvent(const dvs_driver::Event& e)
   if (status_ != TrackerState::kTracking)
   {
     const bool was_lost = status_ == TrackerState::kLost;
+    if (!recent_.empty())
+    {
+      recent_[recent_head_] = {e.t_ns, p.cast<float>(), static_cast<float>(edge_offset), e.polarity != 0};
+      recent_head_ = (recent_head_ + 1) % recent_.size();
+      recent_count_ = std::min(recent_count_ + 1, recent_.size());
+    }
     if (!initializer_.addEvent(p, e, [this](const Pose& pose) { return startTracking(pose); }))
       return false;
+    catchUp(initializer_.refineWindowStartNs());
     last_init_ns_ = now_ns_;
     stats_.reinitializations += was_lost ? 1 : 0;
     ++stats_.initializations;
@@ -170,6 +185,18 @@ bool LineTracker::processEvent(const dvs_driver::Event& e)
       declareLost(reason);
   }
   return updated && status_ == TrackerState::kTracking;
+}
+
+void LineTracker::catchUp(int64_t since_ns)
+{
+  const size_t n = recent_.size();
+  for (size_t i = 0; i < recent_count_; ++i)
+  {
+    const RecentEvent& r = recent_[(recent_head_ + n - recent_count_ + i) % n];
+    if (r.t_ns >= since_ns)
+      updater_.update(estimator_, r.p.cast<double>(), r.polarity, r.edge_offset, r.t_ns);
+  }
+  recent_count_ = 0;
 }
 
 void LineTracker::setPose(const Pose& pose)

@@ -57,6 +57,9 @@ dvs_driver::ParamTable trackerParamTable(LineTrackerParams& p, std::string& solv
   t.add("init_min_events", p.init_min_events, "events", 0, 10000000, "voted events before the first attempt");
   t.add("init_refine_events", p.init_refine_events, "events", 0, 10000000,
         "latest window events refining the initial pose (0: no refinement)");
+  t.add("init_catch_up", p.init_catch_up,
+        "when tracking starts, the events since the oldest one the initial pose was refined on go through the per-event "
+        "update at once: the first pose is that of the latest event, not of the refinement window's middle");
   t.add("init_min_coverage", p.init_min_coverage, "", 0, 1, "each visible side this much covered by window events");
   t.add("init_border_margin_px", p.init_border_margin_px, "px", 0, 100, "segments and corners this close to the border are ignored");
   t.add("init_max_inside_ratio", p.init_max_inside_ratio, "", 0, kInf, "events inside the polygon / events on its sides, at most");

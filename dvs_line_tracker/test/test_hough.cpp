@@ -105,6 +105,10 @@ TEST(Hough, EventsOlderThanTheAgeLimitStopVotingAndAreNoEvidence)
   EXPECT_NEAR(window.front().y(), 90.0, 1e-9);  // oldest first
   EXPECT_NEAR(window.back().x(), 64.0, 1e-9);
   EXPECT_EQ(h.evidencePoints().size(), 102u);
+  // The times of the window's events: the latest, the oldest of the latest 2, and of all.
+  EXPECT_EQ(h.timeOfLatest(1), 1300000000);
+  EXPECT_EQ(h.timeOfLatest(2), 600000000 + 100 * 1000);
+  EXPECT_EQ(h.timeOfLatest(100000), 600000000);
   const auto segs = h.detectSegments();
   ASSERT_EQ(segs.size(), 1u);
   EXPECT_NEAR(segs[0].p0.y(), 90.0, 0.5);
@@ -116,6 +120,8 @@ TEST(Hough, EventsOlderThanTheAgeLimitStopVotingAndAreNoEvidence)
   h.addEvent(64, 64, 64, 64, 5000000000);
   EXPECT_EQ(h.numWindowEvents(), 1);
   EXPECT_TRUE(h.detectSegments().empty());
+  h.reset();
+  EXPECT_EQ(h.timeOfLatest(1), 0);  // empty
 
   // 0: no age limit, only the count window.
   p.max_event_age_s = 0;

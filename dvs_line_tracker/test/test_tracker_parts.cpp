@@ -528,3 +528,39 @@ TEST(InitializerStats, NoPoseReasonNamesTheStageThatStoppedTheDetections)
   s.attempts = 0;
   EXPECT_NE(s.noPoseReason().find("and 0 detection attempts ran"), std::string::npos) << s.noPoseReason();
 }
+
+TEST(LineTracker, CatchUpStartsFromThePoseOfTheLatestEvent)
+{
+  // A camera rolling at 400 deg/s (below init_max_roll_rate): the detection's pose fits the
+  // refinement window's events, spread over tens of milliseconds, and lags the roll by half
+  // their span; the catch-up runs the per-event update through them before the first pose.
+  SyntheticEventParams sp;
+  sp.k = PinholeK{115, 115, 63.5, 63.5};
+  sp.duration_s = 0.4;
+  const double rate = 400 * M_PI / 180;
+  const SyntheticSequence seq = generateSyntheticEvents(
+      defaultSquareMap(), [rate](double t) { return lookAt({0.05, -0.03, 1.6}, {0.05, -0.03, 0}, {0, 1, 0}, rate * t); },
+      sp);
+  const auto firstPoseError = [&](bool catch_up, double* t_first) {
+    LineTrackerParams p;
+    p.init_catch_up = catch_up;
+    LineTracker tracker(idealCamera(), defaultSquareMap(), p);
+    for (const auto& e : seq.events)
+      if (tracker.processEvent(e))
+      {
+        const double t = e.t_ns * 1e-9;
+        *t_first = t;
+        return orientationError(lookAt({0.05, -0.03, 1.6}, {0.05, -0.03, 0}, {0, 1, 0}, rate * t), tracker.pose()) *
+               180 / M_PI;
+      }
+    return -1.0;
+  };
+  double t_with = 0, t_without = 0;
+  const double with = firstPoseError(true, &t_with), without = firstPoseError(false, &t_without);
+  ASSERT_GE(with, 0) << "no pose with the catch-up";
+  ASSERT_GE(without, 0) << "no pose without it";
+  EXPECT_EQ(t_with, t_without);  // the same detection starts both
+  // Measured: 2.9 deg without, 1.3 deg with (2026-11-26).
+  EXPECT_GT(without, 2.0);  // the lag the catch-up removes
+  EXPECT_LT(with, 0.6 * without) << "with " << with << " deg, without " << without << " deg";
+}

@@ -97,6 +97,9 @@ public:
 
   /// The positions currently voted (the window), oldest first.
   std::vector<Eigen::Vector2d> windowPoints() const;
+  /// Time (ns) of the oldest of the latest `k` voted events still in the window (all of them
+  /// when fewer); 0 when the window is empty.
+  int64_t timeOfLatest(int k) const;
   /// The latest `evidence_events` voted positions (at least the window), oldest first.
   std::vector<Eigen::Vector2d> evidencePoints() const;
 

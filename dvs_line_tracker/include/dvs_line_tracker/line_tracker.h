@@ -92,6 +92,20 @@ private:
   void restartAfterTimeJump(int64_t t_ns);
   void declareLost(const std::string& reason);
 
+  /// Feeds the remembered events since `since_ns` through the per-event update (init_catch_up).
+  void catchUp(int64_t since_ns);
+
+  /// The latest events while not tracking, for catchUp (a ring of kCatchUpCapacity).
+  struct RecentEvent
+  {
+    int64_t t_ns;
+    Eigen::Vector2f p;  ///< ideal position
+    float edge_offset;
+    bool polarity;
+  };
+  std::vector<RecentEvent> recent_;
+  size_t recent_head_ = 0, recent_count_ = 0;
+
   dvs_calibration::CameraModel camera_;
   LineTrackerParams params_;
   TrackingGeometry geometry_;

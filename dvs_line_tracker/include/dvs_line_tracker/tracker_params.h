@@ -94,6 +94,11 @@ struct LineTrackerParams
   double init_min_check_period_s = 0.005;  ///< and at least this much event time between attempts (bounds the CPU at high rates)
   int init_min_events = 100;         ///< voted events before the first detection attempt
   int init_refine_events = 400;      ///< latest window events used to refine the initial pose (point-to-line)
+  /// When tracking starts, the events since the oldest one the initial pose was refined on (all
+  /// of them, not only the voted ones) go through the per-event update at once: that pose fits
+  /// events spread over time, i.e. lags a fast motion by half their span; the update catches it
+  /// up to the latest event before the first pose is given.
+  bool init_catch_up = true;
   double init_border_margin_px = 3.0; ///< detected segments this close to an image border along it are ignored
   double init_min_coverage = 0.6;   ///< each projected side's visible length must be this much covered by window events
   int init_confirmations = 1;          ///< a detection is accepted when this many of the last 4 detections agree with it
