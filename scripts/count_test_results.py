@@ -28,7 +28,9 @@ def main(folder):
                 failed += 1
                 continue
             for case in tree.iter("testcase"):
-                problem = case.find("failure") if case.find("failure") is not None else case.find("error")
+                problem = case.find("failure")
+                if problem is None:
+                    problem = case.find("error")
                 if problem is not None:
                     failed += 1
                     print("FAILED: %s.%s (%s)" % (case.get("classname"), case.get("name"), name))

@@ -136,12 +136,19 @@ void HoughLineDetector::vote(float x, float y, int increment, std::vector<int>& 
   }
 }
 
+namespace
+{
+/// The slot `back` entries behind the next write at `head` of a ring of `capacity` slots (with
+/// `back` = the count: the oldest entry).
+int ringSlot(int head, int back, int capacity) { return (head - back + capacity) % capacity; }
+}  // namespace
+
 void HoughLineDetector::expireBefore(int64_t t_ns)
 {
   const int capacity = static_cast<int>(window_.size());
   while (window_count_ > 0)
   {
-    const int oldest = (window_head_ - window_count_ + capacity) % capacity;
+    const int oldest = ringSlot(window_head_, window_count_, capacity);
     if (window_t_[oldest] >= t_ns)
       break;
     vote(window_[oldest].x(), window_[oldest].y(), -1, acc_);
@@ -151,8 +158,7 @@ void HoughLineDetector::expireBefore(int64_t t_ns)
     --window_count_;
   }
   const int evidence_capacity = static_cast<int>(evidence_.size());
-  while (evidence_count_ > 0 &&
-         evidence_t_[(evidence_head_ - evidence_count_ + evidence_capacity) % evidence_capacity] < t_ns)
+  while (evidence_count_ > 0 && evidence_t_[ringSlot(evidence_head_, evidence_count_, evidence_capacity)] < t_ns)
     --evidence_count_;
 }
 
@@ -226,7 +232,7 @@ std::vector<Eigen::Vector2d> ringPoints(const std::vector<Eigen::Vector2f>& ring
   std::vector<Eigen::Vector2d> points;
   points.reserve(count);
   const int capacity = static_cast<int>(ring.size());
-  const int start = (head - count + capacity) % capacity;  // the oldest (the age limit may have dropped some)
+  const int start = ringSlot(head, count, capacity);  // the oldest (the age limit may have dropped some)
   for (int i = 0; i < count; ++i)
     points.push_back(ring[(start + i) % capacity].cast<double>());
   return points;
@@ -238,8 +244,7 @@ int64_t HoughLineDetector::timeOfLatest(int k) const
   if (window_count_ == 0)
     return 0;
   const int capacity = static_cast<int>(window_.size());
-  const int n = std::max(1, std::min(k, window_count_));
-  return window_t_[(window_head_ - n + capacity) % capacity];
+  return window_t_[ringSlot(window_head_, std::max(1, std::min(k, window_count_)), capacity)];
 }
 
 std::vector<Eigen::Vector2d> HoughLineDetector::windowPoints() const

@@ -538,9 +538,10 @@ TEST(LineTracker, CatchUpStartsFromThePoseOfTheLatestEvent)
   sp.k = PinholeK{115, 115, 63.5, 63.5};
   sp.duration_s = 0.4;
   const double rate = 400 * M_PI / 180;
-  const SyntheticSequence seq = generateSyntheticEvents(
-      defaultSquareMap(), [rate](double t) { return lookAt({0.05, -0.03, 1.6}, {0.05, -0.03, 0}, {0, 1, 0}, rate * t); },
-      sp);
+  const PoseFunction roll = [rate](double t) {
+    return lookAt({0.05, -0.03, 1.6}, {0.05, -0.03, 0}, {0, 1, 0}, rate * t);
+  };
+  const SyntheticSequence seq = generateSyntheticEvents(defaultSquareMap(), roll, sp);
   const auto firstPoseError = [&](bool catch_up, double* t_first) {
     LineTrackerParams p;
     p.init_catch_up = catch_up;
@@ -550,8 +551,7 @@ TEST(LineTracker, CatchUpStartsFromThePoseOfTheLatestEvent)
       {
         const double t = e.t_ns * 1e-9;
         *t_first = t;
-        return orientationError(lookAt({0.05, -0.03, 1.6}, {0.05, -0.03, 0}, {0, 1, 0}, rate * t), tracker.pose()) *
-               180 / M_PI;
+        return orientationError(roll(t), tracker.pose()) * 180 / M_PI;
       }
     return -1.0;
   };
