@@ -30,46 +30,117 @@ std::vector<ImageSegment> splitIntoSegments(const std::vector<Eigen::Vector2d>& 
 {
   const Eigen::Vector2d n = line.normal();
   const Eigen::Vector2d dir(-n.y(), n.x());
-  std::vector<std::pair<double, int>> along;
-  along.reserve(points.size());
+  // The positions along the line of the points near it, and the points' indices.
+  thread_local std::vector<double> along;
+  thread_local std::vector<int> which;
+  along.clear();
+  which.clear();
+  double lo = std::numeric_limits<double>::max(), hi = -lo;
   for (size_t i = 0; i < points.size(); ++i)
     if (std::abs(points[i].dot(n) - line.r) <= params.attribution_distance_px)
-      along.emplace_back(points[i].dot(dir), static_cast<int>(i));
-  std::sort(along.begin(), along.end());
-  std::vector<ImageSegment> out;
-  size_t begin = 0;
-  for (size_t i = 1; i <= along.size(); ++i)
-  {
-    if (i < along.size() && along[i].first - along[i - 1].first <= params.max_gap_px)
-      continue;
-    const size_t count = i - begin;
-    const double length = count > 0 ? along[i - 1].first - along[begin].first : 0.0;
-    if (static_cast<int>(count) >= params.min_segment_events && length >= params.min_segment_length_px)
     {
-      std::vector<Eigen::Vector2d> piece;
-      piece.reserve(count);
-      for (size_t k = begin; k < i; ++k)
-        piece.push_back(points[along[k].second]);
-      const ImageLine refit = fitLine(piece);
-      const Eigen::Vector2d rn = refit.normal();
-      Eigen::Vector2d rdir(-rn.y(), rn.x());
-      if (rdir.dot(dir) < 0)
-        rdir = -rdir;
-      double smin = std::numeric_limits<double>::max(), smax = -smin;
-      for (const auto& p : piece)
-      {
-        smin = std::min(smin, p.dot(rdir));
-        smax = std::max(smax, p.dot(rdir));
-      }
-      ImageSegment seg;
-      seg.p0 = refit.r * rn + smin * rdir;
-      seg.p1 = refit.r * rn + smax * rdir;
-      seg.num_events = static_cast<int>(count);
-      if (seg.length() >= params.min_segment_length_px)
-        out.push_back(seg);
+      const double s = points[i].dot(dir);
+      along.push_back(s);
+      which.push_back(static_cast<int>(i));
+      lo = std::min(lo, s);
+      hi = std::max(hi, s);
     }
-    begin = i;
+  std::vector<ImageSegment> out;
+  if (along.empty())
+    return out;
+  // No sort: buckets max_gap_px wide along the line. Two points of one bucket are never more
+  // than a gap apart, so the gaps that split are between the last point of an occupied bucket
+  // and the first of the next occupied one (an empty bucket between them is such a gap too).
+  const double width = params.max_gap_px;
+  const double span = (hi - lo) / std::max(width, 1e-12);
+  const int num_buckets = span < 4.0 * along.size() + 64 ? static_cast<int>(span) + 1 : 0;
+  struct Bucket
+  {
+    double min, max;
+    int count;
+  };
+  thread_local std::vector<Bucket> buckets;
+  thread_local std::vector<int> bucket_of;
+  if (num_buckets > 0)
+  {
+    buckets.assign(num_buckets, Bucket{std::numeric_limits<double>::max(), -std::numeric_limits<double>::max(), 0});
+    bucket_of.resize(along.size());
+    for (size_t j = 0; j < along.size(); ++j)
+    {
+      const int b = std::min(num_buckets - 1, static_cast<int>((along[j] - lo) / width));
+      bucket_of[j] = b;
+      Bucket& bk = buckets[b];
+      bk.min = std::min(bk.min, along[j]);
+      bk.max = std::max(bk.max, along[j]);
+      ++bk.count;
+    }
   }
+  else
+  {
+    // A gap so small against the extent that buckets would outnumber the points: one bucket
+    // per point, in order.
+    thread_local std::vector<int> order;
+    order.resize(along.size());
+    for (size_t j = 0; j < order.size(); ++j)
+      order[j] = static_cast<int>(j);
+    std::sort(order.begin(), order.end(), [](int x, int y) { return along[x] < along[y] || (along[x] == along[y] && x < y); });
+    buckets.resize(order.size());
+    bucket_of.resize(along.size());
+    for (size_t r = 0; r < order.size(); ++r)
+    {
+      buckets[r] = Bucket{along[order[r]], along[order[r]], 1};
+      bucket_of[order[r]] = static_cast<int>(r);
+    }
+  }
+  thread_local std::vector<Eigen::Vector2d> piece;
+  const int nb = static_cast<int>(buckets.size());
+  int first = -1, count = 0, last = -1;  // the current run of occupied buckets
+  auto closeRun = [&]() {
+    if (first < 0)
+      return;
+    const double length = buckets[last].max - buckets[first].min;
+    if (count < params.min_segment_events || length < params.min_segment_length_px)
+      return;
+    piece.clear();
+    for (size_t j = 0; j < along.size(); ++j)
+      if (bucket_of[j] >= first && bucket_of[j] <= last)
+        piece.push_back(points[which[j]]);
+    const ImageLine refit = fitLine(piece);
+    const Eigen::Vector2d rn = refit.normal();
+    Eigen::Vector2d rdir(-rn.y(), rn.x());
+    if (rdir.dot(dir) < 0)
+      rdir = -rdir;
+    double smin = std::numeric_limits<double>::max(), smax = -smin;
+    for (const auto& p : piece)
+    {
+      smin = std::min(smin, p.dot(rdir));
+      smax = std::max(smax, p.dot(rdir));
+    }
+    ImageSegment seg;
+    seg.p0 = refit.r * rn + smin * rdir;
+    seg.p1 = refit.r * rn + smax * rdir;
+    seg.num_events = count;
+    if (seg.length() >= params.min_segment_length_px)
+      out.push_back(seg);
+  };
+  for (int b = 0; b < nb; ++b)
+  {
+    if (buckets[b].count == 0)
+      continue;
+    if (first >= 0 && buckets[b].min - buckets[last].max > params.max_gap_px)
+    {
+      closeRun();
+      first = -1;
+    }
+    if (first < 0)
+    {
+      first = b;
+      count = 0;
+    }
+    count += buckets[b].count;
+    last = b;
+  }
+  closeRun();
   return out;
 }
 
@@ -116,6 +187,7 @@ HoughLineDetector::HoughLineDetector(int width, int height, const HoughParams& p
 
 void HoughLineDetector::reset()
 {
+  windowChanged();
   std::fill(acc_.begin(), acc_.end(), 0);
   window_head_ = window_count_ = 0;
   evidence_head_ = evidence_count_ = 0;
@@ -152,6 +224,7 @@ void HoughLineDetector::expireBefore(int64_t t_ns)
     if (window_t_[oldest] >= t_ns)
       break;
     vote(window_[oldest].x(), window_[oldest].y(), -1, acc_);
+    windowChanged();
     if (window_pixel_[oldest] >= 0)
       in_window_[window_pixel_[oldest]] = 0;
     window_pixel_[oldest] = -1;
@@ -194,6 +267,7 @@ bool HoughLineDetector::addEvent(float x_ideal, float y_ideal, int sx, int sy, i
     in_window_[pixel] = 1;
   window_head_ = (window_head_ + 1) % capacity;
   vote(x_ideal, y_ideal, +1, acc_);
+  windowChanged();
   evidence_[evidence_head_] = Eigen::Vector2f(x_ideal, y_ideal);
   evidence_t_[evidence_head_] = t_ns;
   evidence_head_ = (evidence_head_ + 1) % static_cast<int>(evidence_.size());
@@ -259,11 +333,26 @@ std::vector<Eigen::Vector2d> HoughLineDetector::evidencePoints() const
 
 std::vector<ImageSegment> HoughLineDetector::detectSegments(bool progressive) const
 {
-  const std::vector<Eigen::Vector2d> points = windowPoints();
-  auto bins = candidateBins();
-  if (static_cast<int>(bins.size()) > params_.max_candidates)
-    bins.resize(params_.max_candidates);
-  index_.reset(points);
+  // A second detection on the same window (the full pass after the progressive one) reuses the
+  // window's points, candidates, index and every bin's line and segments found so far.
+  if (detected_generation_ != window_generation_)
+  {
+    detected_generation_ = window_generation_;
+    detected_points_ = windowPoints();
+    detected_bins_ = candidateBins();
+    if (static_cast<int>(detected_bins_.size()) > params_.max_candidates)
+      detected_bins_.resize(params_.max_candidates);
+    index_.reset(detected_points_);
+    if (bin_results_.size() < detected_bins_.size())
+      bin_results_.resize(detected_bins_.size());
+    for (size_t j = 0; j < detected_bins_.size(); ++j)
+    {
+      bin_results_[j].state = BinResult::kUnknown;
+      bin_results_[j].split = false;
+    }
+  }
+  const std::vector<Eigen::Vector2d>& points = detected_points_;
+  const std::vector<std::pair<int, int>>& bins = detected_bins_;
 
   const double half_dtheta = 0.5 * M_PI / num_theta_;
   std::vector<ImageSegment> all;
@@ -285,19 +374,10 @@ std::vector<ImageSegment> HoughLineDetector::detectSegments(bool progressive) co
         near_index.push_back(i);
       }
   };
-  // Progressive Hough: the votes of the points a found segment explains leave this copy of the
-  // accumulator, and a bin whose remaining votes fall below the threshold is no candidate any
-  // more (the other bins of the same edge).
-  if (progressive)
-  {
-    fresh_votes_ = acc_;
-    explained_.assign(points.size(), 0);
-  }
-  for (const auto& [k, rb] : bins)
-  {
-    if (progressive && fresh_votes_[k * num_r_ + rb] < params_.vote_threshold)
-      continue;
-    // Support: points whose Hough curve passes through the bin (any angle inside it).
+  // A bin's line: fitted to the points whose Hough curve passes through the bin (any angle
+  // inside it), gated at the attribution distance and refitted once to shed stray support; false
+  // when too few points support it.
+  auto fitBinLine = [&](int k, int rb, ImageLine& line) {
     const ImageLine centre = binLine(k, rb);
     double cs[3], sn[3], off[3];
     for (int a = 0; a < 3; ++a)
@@ -327,13 +407,34 @@ std::vector<ImageSegment> HoughLineDetector::detectSegments(bool progressive) co
         support.push_back(p);
     }
     if (static_cast<int>(support.size()) < params_.min_segment_events)
-      continue;
+      return false;
     // Fit, then gate at the attribution distance and refit once to shed stray support.
-    ImageLine line = fitLine(support);
+    line = fitLine(support);
     pointsNear(line, support);
     if (static_cast<int>(support.size()) < params_.min_segment_events)
-      continue;
+      return false;
     line = fitLine(support);
+    return true;
+  };
+  // Progressive Hough: the votes of the points a found segment explains leave this copy of the
+  // accumulator, and a bin whose remaining votes fall below the threshold is no candidate any
+  // more (the other bins of the same edge).
+  if (progressive)
+  {
+    fresh_votes_ = acc_;
+    explained_.assign(points.size(), 0);
+  }
+  for (size_t j = 0; j < bins.size(); ++j)
+  {
+    const auto [k, rb] = bins[j];
+    if (progressive && fresh_votes_[k * num_r_ + rb] < params_.vote_threshold)
+      continue;
+    BinResult& result = bin_results_[j];
+    if (result.state == BinResult::kUnknown)
+      result.state = fitBinLine(k, rb, result.line) ? BinResult::kLine : BinResult::kRejected;
+    if (result.state == BinResult::kRejected)
+      continue;
+    const ImageLine& line = result.line;
     // Neighbouring bins usually refit to the same line: split each line once.
     bool seen = false;
     for (const auto& done : processed)
@@ -349,9 +450,15 @@ std::vector<ImageSegment> HoughLineDetector::detectSegments(bool progressive) co
     if (seen)
       continue;
     processed.push_back(line);
-    pointsNear(line, near);
+    if (progressive || !result.split)
+      pointsNear(line, near);
+    if (!result.split)
+    {
+      result.segments = splitIntoSegments(near, line, params_);
+      result.split = true;
+    }
     const Eigen::Vector2d dir(-line.normal().y(), line.normal().x());
-    for (const auto& seg : splitIntoSegments(near, line, params_))
+    for (const auto& seg : result.segments)
     {
       all.push_back(seg);
       if (!progressive)

@@ -106,7 +106,7 @@ dvs_driver::ParamTable trackerParamTable(LineTrackerParams& p, std::string& solv
         "... and once an element of its diagonal changed by this fraction, a segment turned (in)active or a quality check ran (0: every solve)");
   t.add("full_iterations", p.estimator.full_iterations, "", 1, 100, "Gauss-Newton iterations per event (solver full)");
   t.add("extra_relinearizations", p.estimator.extra_relinearizations, "", 0, 1000,
-        "segments re-linearised round robin per event (solver incremental)");
+        "segments re-linearised round robin per solve, skipping one its own events re-linearised within the last n solves (n: map segments; solver incremental)");
   t.add("damping", p.estimator.damping, "", 0, kInf, "Marquardt damping, relative to the diagonal");
   t.add("damping_partial_view", p.damping_partial_view, "", 0, kInf, "damping while part of the map is out of view");
   positive("huber_px", p.estimator.huber_px, "px", kInf, "Huber threshold of the residuals");

@@ -183,6 +183,79 @@ TEST(SegmentSplit, GapsLongerThan15PxSplitAndShortPiecesAreDropped)
   EXPECT_TRUE(splitIntoSegments(sparse, line, p).empty());
 }
 
+TEST(SegmentSplit, BucketsSplitWhereTheSortedPointsDo)
+{
+  // The split without a sort against the rule written out: sort the points near the line along
+  // it, split where neighbours are more than max_gap_px apart (gaps of exactly max_gap_px
+  // included, which do not split), keep pieces long and dense enough. Random clusters along a
+  // tilted line with gaps around the limit, off-line clutter, and a gap parameter so small that
+  // buckets would outnumber the points (the sorted fallback).
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (int trial = 0; trial < 300; ++trial)
+  {
+    HoughParams p;
+    const bool tiny_gap = trial % 10 == 9;
+    p.max_gap_px = tiny_gap ? 1e-9 : 5.0 + 20.0 * u(rng);
+    p.min_segment_events = tiny_gap ? 1 : 1 + trial % 12;
+    p.min_segment_length_px = tiny_gap ? 0.0 : 10.0 * u(rng);
+    ImageLine line;
+    line.theta = 3.0 * u(rng);
+    line.r = 40.0 * u(rng);
+    const Eigen::Vector2d n = line.normal(), dir(-n.y(), n.x());
+    std::vector<Eigen::Vector2d> pts;
+    double s = -100.0 * u(rng);
+    for (int cluster = 0; cluster < 6; ++cluster)
+    {
+      const int count = static_cast<int>(40 * u(rng));
+      for (int i = 0; i < count; ++i)
+      {
+        s += 3.0 * u(rng);
+        pts.push_back((line.r + 3.0 * (u(rng) - 0.5)) * n + s * dir);
+      }
+      const double gap = u(rng) < 0.3 ? p.max_gap_px : p.max_gap_px * (0.5 + u(rng));
+      s += gap;
+      if (u(rng) < 0.5)
+        pts.push_back(line.r * n + s * dir);  // a point exactly one gap on
+    }
+    std::shuffle(pts.begin(), pts.end(), rng);
+
+    std::vector<std::pair<double, int>> along;
+    for (size_t i = 0; i < pts.size(); ++i)
+      if (std::abs(pts[i].dot(n) - line.r) <= p.attribution_distance_px)
+        along.emplace_back(pts[i].dot(dir), static_cast<int>(i));
+    std::sort(along.begin(), along.end());
+    std::vector<std::pair<int, double>> expected;  // events, length along the line
+    size_t begin = 0;
+    for (size_t i = 1; i <= along.size(); ++i)
+    {
+      if (i < along.size() && along[i].first - along[i - 1].first <= p.max_gap_px)
+        continue;
+      const int count = static_cast<int>(i - begin);
+      const double length = along[i - 1].first - along[begin].first;
+      if (count >= p.min_segment_events && length >= p.min_segment_length_px)
+        expected.emplace_back(count, length);
+      begin = i;
+    }
+
+    const auto segs = splitIntoSegments(pts, line, p);
+    // A refitted piece can come out shorter than min_segment_length_px and is then dropped.
+    ASSERT_LE(segs.size(), expected.size()) << "trial " << trial;
+    size_t k = 0;
+    for (const auto& [count, length] : expected)
+    {
+      if (k < segs.size() && segs[k].num_events == count)
+      {
+        EXPECT_NEAR(segs[k].length(), length, 2.0) << "trial " << trial;
+        ++k;
+      }
+      else
+        EXPECT_LT(length, p.min_segment_length_px + 3.0) << "trial " << trial << ": a piece went missing";
+    }
+    EXPECT_EQ(k, segs.size()) << "trial " << trial;
+  }
+}
+
 TEST(SegmentSplit, FitLineRecoversATiltedLine)
 {
   std::vector<Eigen::Vector2d> pts;
@@ -227,6 +300,48 @@ int matchedSides(const std::vector<ImageSegment>& segs, const std::vector<std::p
   return matched;
 }
 }  // namespace
+
+TEST(Hough, ASecondDetectionOnTheSameWindowIsTheOneAFreshDetectorMakes)
+{
+  // The initialiser runs the full Hough right after the progressive one on the same window, and
+  // the detector reuses what the first pass found per bin. Whatever ran before, each detection
+  // must be the one a detector fed the same events makes from scratch; an event voted in between
+  // makes the window new.
+  HoughParams p;
+  p.neighbour_filter = false;
+  const auto same = [](const std::vector<ImageSegment>& a, const std::vector<ImageSegment>& b) {
+    if (a.size() != b.size())
+      return false;
+    for (size_t i = 0; i < a.size(); ++i)
+      if (a[i].p0 != b[i].p0 || a[i].p1 != b[i].p1 || a[i].num_events != b[i].num_events)
+        return false;
+    return true;
+  };
+  HoughLineDetector reused(128, 128, p);
+  addThickSquare(reused, 30, 30, 60);
+  const auto progressive = reused.detectSegments(true);
+  const auto full = reused.detectSegments(false);
+  const auto full_again = reused.detectSegments(false);
+  {
+    HoughLineDetector fresh(128, 128, p);
+    addThickSquare(fresh, 30, 30, 60);
+    EXPECT_TRUE(same(full, fresh.detectSegments(false)));
+    EXPECT_TRUE(same(full_again, full));
+    HoughLineDetector fresh_progressive(128, 128, p);
+    addThickSquare(fresh_progressive, 30, 30, 60);
+    EXPECT_TRUE(same(progressive, fresh_progressive.detectSegments(true)));
+  }
+  // A new side voted in: the next detection sees it.
+  int64_t t = 0;
+  addSegmentEvents(reused, {10, 110}, {110, 110}, t);
+  const auto after = reused.detectSegments(true);
+  HoughLineDetector fresh(128, 128, p);
+  addThickSquare(fresh, 30, 30, 60);
+  t = 0;
+  addSegmentEvents(fresh, {10, 110}, {110, 110}, t);
+  EXPECT_TRUE(same(after, fresh.detectSegments(true)));
+  EXPECT_FALSE(same(after, progressive));
+}
 
 TEST(Hough, ProgressiveVoteRemovalFindsTheSameSidesOfAThickSquare)
 {

@@ -58,6 +58,7 @@ private:
   uint64_t updates_since_normalize_ = 0;
   std::vector<char> changed_flag_;  ///< segments with new events since the last solve
   std::vector<int> changed_list_;
+  std::vector<uint64_t> linearized_at_;  ///< per segment: solves_ when it was last re-linearised
   int num_changed_ = 0, events_since_solve_ = 0;
   // The solve rate limit (a leaky bucket in event time, GCRA): a solve is allowed while the
   // event clock is past solve_due_ns_ - kSolveBurstNs; each solve moves solve_due_ns_ on by one

@@ -139,5 +139,28 @@ private:
   mutable LinePointIndex index_{1, 1.0, 1.0, Eigen::Vector2d::Zero()};
   mutable std::vector<int> fresh_votes_;
   mutable std::vector<char> explained_;
+  // What a detection found per candidate bin, kept for the next detection on the same window
+  // (the initialiser's full-Hough fallback runs on the window the progressive pass just saw):
+  // a bin's line (fitted, gated, refitted) and that line's segments do not depend on the pass.
+  struct BinResult
+  {
+    enum State : uint8_t
+    {
+      kUnknown,
+      kRejected,  ///< too little support
+      kLine
+    } state = kUnknown;
+    bool split = false;  ///< `segments` holds the line's segments
+    ImageLine line;
+    std::vector<ImageSegment> segments;
+  };
+  /// Whenever the window changes (an event voted or expired, a reset), so that the detection
+  /// knows whether its scratch still describes the window.
+  void windowChanged() { ++window_generation_; }
+  uint64_t window_generation_ = 0;
+  mutable uint64_t detected_generation_ = ~uint64_t{0};
+  mutable std::vector<Eigen::Vector2d> detected_points_;
+  mutable std::vector<std::pair<int, int>> detected_bins_;
+  mutable std::vector<BinResult> bin_results_;
 };
 }  // namespace dvs_line_tracker
