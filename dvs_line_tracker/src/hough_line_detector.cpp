@@ -335,9 +335,10 @@ std::vector<ImageSegment> HoughLineDetector::detectSegments(bool progressive) co
 {
   // A second detection on the same window (the full pass after the progressive one) reuses the
   // window's points, candidates, index and every bin's line and segments found so far.
-  if (detected_generation_ != window_generation_)
+  if (detected_generation_ != window_generation_ || detected_by_ != this)
   {
     detected_generation_ = window_generation_;
+    detected_by_ = this;
     detected_points_ = windowPoints();
     detected_bins_ = candidateBins();
     if (static_cast<int>(detected_bins_.size()) > params_.max_candidates)

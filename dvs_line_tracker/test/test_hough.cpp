@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <memory>
 #include <random>
 
 using namespace dvs_line_tracker;
@@ -330,6 +331,21 @@ TEST(Hough, ASecondDetectionOnTheSameWindowIsTheOneAFreshDetectorMakes)
     HoughLineDetector fresh_progressive(128, 128, p);
     addThickSquare(fresh_progressive, 30, 30, 60);
     EXPECT_TRUE(same(progressive, fresh_progressive.detectSegments(true)));
+  }
+  // A copy detects on its own points (the original it was copied from may be gone by then:
+  // without its own scratch, the copy read the freed points).
+  {
+    std::unique_ptr<HoughLineDetector> copy;
+    {
+      auto original = std::make_unique<HoughLineDetector>(128, 128, p);
+      addThickSquare(*original, 30, 30, 60);
+      original->detectSegments(true);
+      copy = std::make_unique<HoughLineDetector>(*original);
+      original->reset();
+      addThickSquare(*original, 10, 50, 40);
+      original->detectSegments(false);
+    }
+    EXPECT_TRUE(same(copy->detectSegments(false), full));
   }
   // A new side voted in: the next detection sees it.
   int64_t t = 0;

@@ -159,6 +159,8 @@ private:
   void windowChanged() { ++window_generation_; }
   uint64_t window_generation_ = 0;
   mutable uint64_t detected_generation_ = ~uint64_t{0};
+  /// The detector the scratch was made by: a copy's index points into the original's points.
+  mutable const HoughLineDetector* detected_by_ = nullptr;
   mutable std::vector<Eigen::Vector2d> detected_points_;
   mutable std::vector<std::pair<int, int>> detected_bins_;
   mutable std::vector<BinResult> bin_results_;
