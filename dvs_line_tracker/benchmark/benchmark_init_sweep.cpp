@@ -8,12 +8,9 @@
 #include "benchmark_stats.h"
 #include "sweep_evaluation.h"
 
-#include <dvs_calibration/trajectory_file.h>
-#include <dvs_driver/event_text_io.h>
 #include <algorithm>
 #include <cstdio>
 #include <cstring>
-#include <fstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -80,20 +77,13 @@ int main(int argc, char** argv)
     const dvs_driver::EventVector events = simulateSweepScene(scene);
     try
     {
-      dvs_driver::writeEventsText(dump + "/events.txt", events);
+      writeSweepSceneFiles(dump, scene, events);
     }
     catch (const std::exception& e)
     {
       std::fprintf(stderr, "benchmark_init_sweep: %s\n", e.what());
       return 1;
     }
-    dvs_calibration::writeTumTrajectory(dump + "/groundtruth.txt",
-                                        dvs_screen_sim::sampleTrajectory(*scene.trajectory, scene.duration, 1000.0));
-    const auto& k = scene.camera.intrinsics();
-    std::ofstream(dump + "/calib.txt") << k.fx << " " << k.fy << " " << k.cx << " " << k.cy << " " << k.k1 << " "
-                                       << k.k2 << " " << k.p1 << " " << k.p2 << " " << k.k3 << "\n";
-    std::ofstream(dump + "/size.txt") << k.width << " " << k.height << "\n";
-    std::ofstream(dump + "/map.yaml") << lineMapToYaml(scene.map);
     std::printf("wrote %zu events of scene %d to %s\n", events.size(), only, dump.c_str());
     return 0;
   }

@@ -1,10 +1,13 @@
 #include "sweep_evaluation.h"
 
 #include <dvs_calibration/trajectory_accuracy.h>
+#include <dvs_calibration/trajectory_file.h>
+#include <dvs_driver/event_text_io.h>
 #include <dvs_line_tracker/line_tracker.h>
 
 #include <algorithm>
 #include <ctime>
+#include <fstream>
 
 namespace dvs_line_tracker
 {
@@ -41,6 +44,8 @@ double visibleLength(const dvs_calibration::CameraModel& camera, const dvs_calib
   return length;
 }
 
+}  // namespace
+
 int visibleEdges(const SweepScene& s, const dvs_calibration::Pose& pose)
 {
   int n = 0;
@@ -49,17 +54,22 @@ int visibleEdges(const SweepScene& s, const dvs_calibration::Pose& pose)
   return n;
 }
 
-/// The first ground-truth time at which at least min(3, segments) visible map edges have each
-/// swept one pixel (mean normal motion of their end points in ideal pixels) while in view.
-double edgesFireTime(const SweepScene& s, const dvs_calibration::Trajectory& gt)
+// An edge's sweep: the mean normal motion of its end points in ideal pixels.
+double edgesFireTime(const SweepScene& s, const dvs_calibration::Trajectory& gt, double from_s, double window_s)
 {
   const size_t n = s.map.segments.size();
+  // Per edge, the sweep accumulated since from_s, and its value at every sample (to subtract
+  // the part older than window_s).
   std::vector<double> swept(n, 0.0);
+  std::vector<std::vector<std::pair<double, double>>> history(n);
+  std::vector<size_t> oldest(n, 0);
   std::vector<Eigen::Vector2d> a_prev(n), b_prev(n);
   std::vector<char> have(n, 0);
   const size_t needed = std::min<size_t>(3, n);
   for (const auto& sample : gt)
   {
+    if (sample.t < from_s)
+      continue;
     size_t fired = 0;
     for (size_t i = 0; i < n; ++i)
     {
@@ -77,14 +87,21 @@ double edgesFireTime(const SweepScene& s, const dvs_calibration::Trajectory& gt)
       have[i] = ok;
       a_prev[i] = a;
       b_prev[i] = b;
-      fired += visible && swept[i] >= 1.0 ? 1 : 0;
+      double recent = swept[i];
+      if (window_s > 0)
+      {
+        history[i].emplace_back(sample.t, swept[i]);
+        while (history[i][oldest[i]].first < sample.t - window_s)
+          ++oldest[i];
+        recent -= history[i][oldest[i]].second;
+      }
+      fired += visible && recent >= 1.0 ? 1 : 0;
     }
     if (fired >= needed)
       return sample.t;
   }
   return -1;
 }
-}  // namespace
 
 dvs_driver::EventVector simulateSweepScene(const SweepScene& s, double* cpu_s)
 {
@@ -97,6 +114,18 @@ dvs_driver::EventVector simulateSweepScene(const SweepScene& s, double* cpu_s)
   if (cpu_s)
     *cpu_s = cpuSeconds() - c0;
   return events;
+}
+
+void writeSweepSceneFiles(const std::string& dir, const SweepScene& scene, const dvs_driver::EventVector& events)
+{
+  dvs_driver::writeEventsText(dir + "/events.txt", events);
+  dvs_calibration::writeTumTrajectory(dir + "/groundtruth.txt",
+                                      dvs_screen_sim::sampleTrajectory(*scene.trajectory, scene.duration, 1000.0));
+  const auto& k = scene.camera.intrinsics();
+  std::ofstream(dir + "/calib.txt") << k.fx << " " << k.fy << " " << k.cx << " " << k.cy << " " << k.k1 << " " << k.k2
+                                    << " " << k.p1 << " " << k.p2 << " " << k.k3 << "\n";
+  std::ofstream(dir + "/size.txt") << k.width << " " << k.height << "\n";
+  std::ofstream(dir + "/map.yaml") << lineMapToYaml(scene.map);
 }
 
 SweepResult runSweepScene(const SweepScene& s, const LineTrackerParams& params)

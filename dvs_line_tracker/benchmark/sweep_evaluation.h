@@ -36,9 +36,22 @@ struct SweepResult
   std::string last_loss_reason;
 };
 
+/// Map edges at least 10 px long in the (distorted) image at `pose`.
+int visibleEdges(const SweepScene& scene, const dvs_calibration::Pose& pose);
+
+/// The first ground-truth time at which at least min(3, segments) visible map edges have each
+/// swept one pixel while in view since `from_s` (-1: never); with `window_s` > 0, one pixel
+/// within the last `window_s`.
+double edgesFireTime(const SweepScene& scene, const dvs_calibration::Trajectory& ground_truth, double from_s = -1e300,
+                     double window_s = 0);
+
 /// The scene's events from the software DVS (seeded by spec.seed); `cpu_s` (optional) receives
 /// the simulation's thread CPU time.
 dvs_driver::EventVector simulateSweepScene(const SweepScene& scene, double* cpu_s = nullptr);
+
+/// Write `events` of `scene` and its ground truth into the existing folder `dir`: events.txt,
+/// groundtruth.txt (TUM, 1 kHz), calib.txt, size.txt, map.yaml (throws on a write error).
+void writeSweepSceneFiles(const std::string& dir, const SweepScene& scene, const dvs_driver::EventVector& events);
 
 /// Simulates the scene (seeded by spec.seed) and runs a fresh tracker with `params` over it.
 SweepResult runSweepScene(const SweepScene& scene, const LineTrackerParams& params = LineTrackerParams());

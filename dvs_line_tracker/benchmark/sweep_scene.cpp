@@ -32,6 +32,7 @@ public:
     double flip_time = -1;       ///< centre of the flip [s] (< 0: none)
     double flip_peak_rate = 2000 * kDeg;
     double flip_rise = 0.3;      ///< [m]
+    double flip_repeat = 0;      ///< > 0: another flip every this many seconds [s]
     double duration = 1.5;
   };
   explicit SweepTrajectory(const Params& p) : p_(p) {}
@@ -44,13 +45,15 @@ public:
                                                                      std::sin(w * t + p_.orbit_phase) - std::sin(p_.orbit_phase), 0);
     const double f = 2 * M_PI * p_.sway_frequency;
     double roll = p_.roll0 + p_.sway_peak_rate / f * std::sin(f * t);
-    if (p_.flip_time >= 0)
+    // Gaussian roll rate with peak flip_peak_rate integrating to one turn.
+    const double sigma = std::sqrt(2 * M_PI) / p_.flip_peak_rate;
+    const double sh = 0.15;
+    for (double flip = p_.flip_time; flip >= 0; flip += p_.flip_repeat)
     {
-      // Gaussian roll rate with peak flip_peak_rate integrating to one turn.
-      const double sigma = std::sqrt(2 * M_PI) / p_.flip_peak_rate;
-      roll += M_PI * (1 + std::erf((t - p_.flip_time) / (sigma * std::sqrt(2.0))));
-      const double sh = 0.15;
-      p += up * p_.flip_rise * std::exp(-0.5 * std::pow((t - p_.flip_time) / sh, 2));
+      roll += M_PI * (1 + std::erf((t - flip) / (sigma * std::sqrt(2.0))));
+      p += up * p_.flip_rise * std::exp(-0.5 * std::pow((t - flip) / sh, 2));
+      if (p_.flip_repeat <= 0 || flip > t + 1.0)
+        break;
     }
     return dvs_calibration::lookAt(p, p_.look_at, up, roll);
   }
@@ -237,6 +240,7 @@ SweepScene buildSweepScene(const SweepSceneSpec& spec)
       tp.flip_time = 0.55;
       tp.flip_peak_rate = 2000 * kDeg;
       tp.flip_rise = std::min(0.5, 0.25 * distance);
+      tp.flip_repeat = spec.flip_repeat_s;
       tp.duration = 1.1;
       break;
   }

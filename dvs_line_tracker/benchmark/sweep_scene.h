@@ -48,6 +48,7 @@ struct SweepSceneSpec
   SweepMap map = SweepMap::kSquare;
   SweepNoise noise = SweepNoise::kRealistic;
   bool partial = false;   ///< a corner, or part of one side, starts outside the image
+  double flip_repeat_s = 0;  ///< flip motion: > 0, the flip repeats every this many seconds
   uint64_t seed = 1;
 };
 
