@@ -10,7 +10,6 @@
 
 #include <algorithm>
 #include <cstdio>
-#include <cstring>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -31,46 +30,20 @@ void usage()
 
 int main(int argc, char** argv)
 {
-  int count = 64, jobs = 2, only = -1;
-  std::string dump;
-  LineTrackerParams params;
-  for (int i = 1; i < argc; ++i)
+  SceneOptions options;
+  if (!parseSceneOptions("benchmark_init_sweep", argc, argv, options))
   {
-    bool ok = i + 1 < argc;
-    if (ok && !std::strcmp(argv[i], "--scenes"))
-      ok = parseIntInRange(argv[++i], 1, 10000, count);
-    else if (ok && !std::strcmp(argv[i], "--jobs"))
-      ok = parseIntInRange(argv[++i], 1, 16, jobs);
-    else if (ok && !std::strcmp(argv[i], "--scene"))
-      ok = parseIntInRange(argv[++i], 0, 9999, only);
-    else if (ok && !std::strcmp(argv[i], "--dump"))
-      dump = argv[++i];
-    else if (ok && !std::strcmp(argv[i], "--params"))
-    {
-      if (!loadParamsOption("benchmark_init_sweep", argv[++i], params))
-        return 2;
-    }
-    else
-      ok = false;
-    if (!ok)
-    {
-      usage();
-      return 2;
-    }
+    usage();
+    return 2;
   }
+  const int count = options.count, jobs = options.jobs, only = options.only;
+  const std::string& dump = options.dump;
+  const LineTrackerParams& params = options.params;
   std::vector<SweepSceneSpec> specs = sweepSceneSpecs(std::max(count, only + 1));
-  std::vector<int> todo;
-  for (int i = 0; i < static_cast<int>(specs.size()); ++i)
-    if (only < 0 ? i < count : i == only)
-      todo.push_back(i);
+  const std::vector<int> todo = options.selected();
 
   if (!dump.empty())
   {
-    if (only < 0)
-    {
-      usage();
-      return 2;
-    }
     if (!createOutputFolder("benchmark_init_sweep", "--dump", dump))
       return 1;
     const SweepScene scene = buildSweepScene(specs[only]);
@@ -90,18 +63,9 @@ int main(int argc, char** argv)
   std::vector<SweepResult> results(specs.size());
   std::vector<SweepScene> scenes(specs.size());
   std::vector<std::string> errors(specs.size());
-  runJobs(todo.size(), jobs, [&](size_t k) {
-    const int i = todo[k];
-    try
-    {
-      scenes[i] = buildSweepScene(specs[i]);
-      results[i] = runSweepScene(scenes[i], params);
-    }
-    catch (const std::exception& e)
-    {
-      errors[i] = e.what();
-    }
-    std::fprintf(stderr, "scene %d done\n", i);
+  runScenes(todo, jobs, errors, [&](int i) {
+    scenes[i] = buildSweepScene(specs[i]);
+    results[i] = runSweepScene(scenes[i], params);
   });
 
   std::printf("| # | sensor | lens (hfov, k1) | distance (coverage) | motion | map | noise | partial | events | "

@@ -92,7 +92,7 @@ void LineTracker::reset()
 {
   initializer_.reset();
   updater_.reset();
-  monitor_.reset();
+  monitor_.restart();
   edge_model_ = EdgeRunModel(camera_.width(), camera_.height(), edgeModelParams(params_));
   estimator_.resize(geometry_.map.segments.size(), params_.buffer_size);
   status_ = TrackerState::kInitializing;
@@ -209,7 +209,7 @@ void LineTracker::setPose(const Pose& pose)
 bool LineTracker::startTracking(const Pose& pose)
 {
   const int visible = updater_.start(estimator_, pose);
-  monitor_.reset();
+  monitor_.restart();
   if (visible < params_.min_visible_segments)
     return false;
   status_ = TrackerState::kTracking;

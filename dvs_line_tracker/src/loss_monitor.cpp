@@ -57,6 +57,19 @@ std::string LossMonitor::check(const EstimatorState& state)
   if (ratio < params_.min_attributed_ratio && ratio < 1.5 * chance && structured >= params_.min_unattributed_structure)
     return "attribution collapsed (" + std::to_string(100.0 * ratio) + " % of events attributed, " +
            std::to_string(100.0 * structured) + " % of the rest next to each other)";
+  // A track that slipped onto a wrong pose (frozen while part of the map was occluded and the
+  // camera moved on) still finds events near its lines where they cross the real edges, so its
+  // attributed share stays above min_attributed_ratio; but it falls far below the level this
+  // track kept, what it no longer explains is edges, and its buffers sit off their lines.
+  if (params_.attribution_drop_ratio > 0 && reference_ratio_ >= kDropMinReference &&
+      ratio < params_.attribution_drop_ratio * reference_ratio_ && structured >= kDropMinStructure &&
+      residual >= kDropMinResidualPx)
+    return "attribution dropped (" + std::to_string(100.0 * ratio) + " % of events attributed, this track's level " +
+           std::to_string(100.0 * reference_ratio_) + " %; " + std::to_string(100.0 * structured) +
+           " % of the rest next to each other; mean residual " + std::to_string(residual) + " px)";
+  reference_ratio_ = reference_ratio_ < 0 ? ratio
+                                          : reference_ratio_ + (ratio > reference_ratio_ ? kReferenceRise : kReferenceFall) *
+                                                                   (ratio - reference_ratio_);
   return "";
 }
 }  // namespace dvs_line_tracker

@@ -38,6 +38,10 @@ constexpr int kBridgedClosedConfirmations = 2;
 /// A second hypothesis explaining this fraction of the best one's evidence makes it ambiguous.
 constexpr double kAmbiguityRatio = 0.85;
 
+/// With several map polygons, a hypothesis rejected for its sides' coverage that explains this
+/// much more of the window's events (as a fraction of them) than the winner makes it ambiguous.
+constexpr double kRejectedExplainedMargin = 0.1;
+
 /// Polygons collected from the split segments, of which the 8 whose sides meet best are tried:
 /// the search finds the long unsplit segments' polygons first (joining neighbouring polygons'
 /// collinear sides), and stopping at 8 left the pieces' polygons unsearched.
@@ -396,6 +400,8 @@ TrackerInitializer::Outcome TrackerInitializer::tryPolygon(const ImagePolygon& p
   // Hypotheses covered less than init_min_coverage (but kWeakCoverageRatio of it) are weak
   // detections: they may confirm a strong one, or be confirmed by one, never start alone.
   bool have = false, any_pose = false;
+  const bool multi_polygon = geometry_.map.polygons.size() > 1;
+  std::vector<Pose> rejected;  // poses of other map polygons whose sides were not covered enough
   InitialPose init;
   Coverage best;
   double runner_up_px = 0;
@@ -428,7 +434,11 @@ TrackerInitializer::Outcome TrackerInitializer::tryPolygon(const ImagePolygon& p
       }
     }
     if (!valid(c))
+    {
+      if (multi_polygon && c.min_fraction > 0)
+        rejected.push_back(candidate.pose);
       continue;
+    }
     if (geometry_.map.polygons.size() > 1 && !candidate.rotations.empty())
       pickRotationByEvidence(candidate, c, recent);
     if (!have || c.covered_px > best.covered_px)
@@ -465,11 +475,24 @@ TrackerInitializer::Outcome TrackerInitializer::tryPolygon(const ImagePolygon& p
   // real square's events unexplained: 0.28-0.34 of them explained in the sweep's false
   // initialisations, 0.6-1.0 in its correct ones; a whole square of a pair taken for the other,
   // which put the other beyond the image where no side needed covering, was the same).
-  if ((polygon.open || geometry_.map.polygons.size() > 1) && explainedFraction(init.pose, recent) < kOpenMinExplained)
+  const double explained =
+      polygon.open || multi_polygon ? explainedFraction(init.pose, recent) : 1.0;
+  if (explained < kOpenMinExplained)
   {
     ++stats_.unexplained;
     return Outcome::kNext;
   }
+  // With several map polygons, the hypothesis that puts more of the map in view must cover more
+  // sides, some of which may hardly fire yet (a grey square's sides along the motion): one
+  // rejected for that, which explains clearly more of the events than the winner (which put
+  // the rest of the map out of view), makes the view ambiguous until its sides fill in (a
+  // re-initialisation took the one square of a pair in full view for the other: 1.2 m off).
+  for (const Pose& other : rejected)
+    if (!sameUpToSymmetry(init.pose, other) && explainedFraction(other, recent) > explained + kRejectedExplainedMargin)
+    {
+      ++stats_.ambiguous;
+      return Outcome::kNext;
+    }
   // The more of a polygon's outline is inferred rather than seen (sides stopping short of
   // their corners), the more it must repeat itself: one more agreeing detection when the
   // gaps exceed a quarter of the perimeter (a walking person's limbs made such a square).

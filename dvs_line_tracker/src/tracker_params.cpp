@@ -119,6 +119,8 @@ dvs_driver::ParamTable trackerParamTable(LineTrackerParams& p, std::string& solv
   t.add("min_attributed_ratio", p.min_attributed_ratio, "", 0, 1, "attributed / all events below this: lost");
   t.add("min_unattributed_structure", p.min_unattributed_structure, "", 0, 1,
         "... and at least this share of the rest next to each other (structure, not noise): lost");
+  t.add("attribution_drop_ratio", p.attribution_drop_ratio, "", 0, 1,
+        "attributed share below this fraction of the track's level (>= 50 %), half the rest structure, residual >= 0.4 px: lost (0: off)");
   positive("min_depth", p.min_depth_m, "m", kInf, "map points closer (or behind): lost");
   t.add("max_time_backwards", p.max_time_backwards_s, "s", 0, kInf,
         "event time going back by more than this (a replayed bag) restarts the tracker");

@@ -2,6 +2,7 @@
 // (sweep_scene.h, simulated by the suite's software DVS), asserting the first-pose time after
 // the map's edges start firing, no false initialisation, the tracked fraction and the accuracy
 // against ground truth.
+#include "reacquire_evaluation.h"
 #include "sweep_evaluation.h"
 
 #include <dvs_line_tracker/line_tracker.h>
@@ -221,4 +222,93 @@ TEST(StartAnywhere, ReacquiresAfterBlackout)
   ASSERT_GE(back, 0.0) << "never re-acquired";
   EXPECT_LE(back, 0.3);
 }
+
+// --- Re-acquisition after a disturbance (benchmark_reacquire's scenes) ---
+
+/// Re-acquisition scene `index` run with `params`: a correct pose back within 0.3 s of the map's
+/// edges firing again, no false re-initialisation, and the track held from 0.3 s after that.
+void expectReacquires(int index, const LineTrackerParams& params = LineTrackerParams())
+{
+  const ReacquireResult r = runReacquireScene(buildReacquireScene(sweepScene(index)), index, params);
+  SCOPED_TRACE("scene " + std::to_string(index) + ", last loss: " + r.last_loss_reason);
+  ASSERT_TRUE(r.tracking_before) << "not tracking when the disturbance began: not a useful scene";
+  ASSERT_GE(r.edges_refire_s, 0.0) << "the map never fires again: not a useful scene";
+  ASSERT_GE(r.back_after_s, 0.0) << "no correct pose after the disturbance";
+  EXPECT_LE(r.back_after_s, 0.3);
+  EXPECT_EQ(r.false_reinitializations, 0);
+  EXPECT_GE(r.tracked_after, 0.97);
+}
+
+// The disturbances do what they say: a blackout removes every event of its span and nothing
+// else, an occlusion only the events on its side of the line, a bump turns the camera by its
+// angle within 20 ms and keeps it there, and a camera leaving the view has no map in view while
+// it is turned away and all of it back afterwards.
+TEST(Reacquire, DisturbancesAreWhatTheySay)
+{
+  for (int index : {0, 1, 2, 3})
+  {
+    const SweepScene scene = buildReacquireScene(sweepScene(index));
+    const DisturbedScene d = disturbSweepScene(scene, index);
+    const Disturbance& dist = d.disturbance;
+    SCOPED_TRACE(disturbanceLabel(dist.kind));
+    ASSERT_EQ(static_cast<int>(dist.kind), index % 4);
+    const int64_t from = std::llround(dist.start_s * 1e9), to = std::llround((dist.start_s + dist.length_s) * 1e9);
+    const dvs_driver::EventVector all = simulateSweepScene(d.scene);
+    size_t in_span = 0, hidden_side = 0;
+    for (const auto& e : d.events)
+      if (e.t_ns >= from && e.t_ns < to)
+      {
+        ++in_span;
+        hidden_side += dist.occluder_normal.dot(Eigen::Vector2d(e.x, e.y) - dist.occluder_point) > 0 ? 1 : 0;
+      }
+    const dvs_calibration::Pose base = scene.trajectory->poseAt(dist.start_s + 0.05);
+    const dvs_calibration::Pose turned = d.scene.trajectory->poseAt(dist.start_s + 0.05);
+    switch (dist.kind)
+    {
+      case DisturbanceKind::kBlackout:
+        EXPECT_EQ(in_span, 0u);
+        EXPECT_GT(all.size(), d.events.size());
+        EXPECT_NEAR(orientationError(base, turned), 0.0, 1e-12);
+        break;
+      case DisturbanceKind::kOcclusion:
+        EXPECT_GT(in_span, 0u);
+        EXPECT_EQ(hidden_side, 0u);
+        EXPECT_GT(all.size(), d.events.size());
+        break;
+      case DisturbanceKind::kBump:
+        EXPECT_EQ(all.size(), d.events.size());
+        EXPECT_NEAR(orientationError(base, turned) * 180 / M_PI, dist.angle_deg, 1e-6);
+        EXPECT_NEAR(positionError(base, turned), 0.0, 1e-12);
+        EXPECT_NEAR(orientationError(scene.trajectory->poseAt(dist.start_s - 0.001),
+                                     d.scene.trajectory->poseAt(dist.start_s - 0.001)),
+                    0.0, 1e-12);
+        break;
+      case DisturbanceKind::kLeaveView:
+        EXPECT_EQ(all.size(), d.events.size());
+        EXPECT_EQ(visibleEdges(d.scene, d.scene.trajectory->poseAt(dist.start_s + 0.15 + 0.5 * dist.length_s)), 0);
+        EXPECT_NEAR(orientationError(scene.trajectory->poseAt(dist.backAt()), d.scene.trajectory->poseAt(dist.backAt())),
+                    0.0, 1e-9);
+        break;
+    }
+  }
+}
+
+// A large square hand-held at 0.93 m (240x180, 83 deg lens), half of it occluded for 0.58 s:
+// the buffers of the hidden sides held the pose still while the camera turned on, and after the
+// occlusion the track sat 10-30 px off the edges with 15-25 % of the events still near its
+// lines (above the 2 % collapse), for the rest of the run (RMS 96 % of the distance). The share
+// dropping far below the track's own level (76 %) with the rest structure is now a loss.
+TEST(Reacquire, SlipAfterAnOcclusionIsALoss) { expectReacquires(25); }
+
+// Two grey squares hand-held at 0.91 m through a 106 deg lens (128x128), a 0.6 s blackout: the
+// re-initialisation took the right square for the left one (1.2 m off), the left one then out of
+// view; the true hypothesis, which puts both in view, was rejected because the left square's
+// sides along the motion had not fired yet, though it explained clearly more of the events.
+TEST(Reacquire, PairReacquiredAsTheRightSquare) { expectReacquires(76); }
+
+// Blackout, occlusion, bump and the map leaving the view, on scenes of each motion class.
+TEST(Reacquire, AfterABlackout) { expectReacquires(4); }
+TEST(Reacquire, AfterAnOcclusion) { expectReacquires(9); }
+TEST(Reacquire, AfterABump) { expectReacquires(6); }
+TEST(Reacquire, AfterLeavingTheView) { expectReacquires(15); }
 }  // namespace dvs_line_tracker

@@ -8,7 +8,9 @@
 // in slow motion a good track attributes few events, yet more than chance), and the events not
 // attributed are structure rather than noise (at least `min_unattributed_structure` of them next
 // to two others: when the camera pauses, its edges stop firing and only noise is left, which
-// says nothing against the pose; a wrong pose leaves the real edges' events unattributed).
+// says nothing against the pose; a wrong pose leaves the real edges' events unattributed). A
+// track that slipped also shows as a drop of its attributed share far below its own level
+// (`attribution_drop_ratio`) while the rest is structure and its residuals grew.
 #include <dvs_line_tracker/estimator_state.h>
 #include <dvs_line_tracker/neighbour_activity.h>
 #include <dvs_line_tracker/tracker_params.h>
@@ -45,13 +47,29 @@ public:
   /// "" while the track is good, else why it is lost. Starts the next interval. Expects the
   /// state's visibility refreshed (EventUpdater::refresh).
   std::string check(const EstimatorState& state);
-  /// A new interval (tracking starts).
+  /// A new interval.
   void reset() { events_ = attributed_ = structured_ = 0; }
+  /// A new track: a new interval, and the track's attribution level forgotten.
+  void restart()
+  {
+    reset();
+    reference_ratio_ = -1;
+  }
 
 private:
   const LineTrackerParams& params_;
   double image_area_px_;
   std::unique_ptr<NeighbourActivity> activity_;  ///< over the unattributed events only
   uint64_t events_ = 0, attributed_ = 0, structured_ = 0;
+  /// The track's attribution level: a running mean of the attributed shares of its checks that
+  /// passed, quick to rise and slow to fall (a slip that drifts over many checks stays below it:
+  /// -1 before the first check).
+  double reference_ratio_ = -1;
+  static constexpr double kReferenceRise = 0.1, kReferenceFall = 0.01;
+  /// The attribution drop (attribution_drop_ratio) counts for tracks whose level is at least
+  /// this (with less, a check's share varies too much: noisy large sensors), when at least this
+  /// share of the unattributed events is structure and the buffers' mean residual is at least
+  /// this (a good track in clutter keeps its events on its lines: 0.1-0.3 px).
+  static constexpr double kDropMinReference = 0.5, kDropMinStructure = 0.5, kDropMinResidualPx = 0.4;
 };
 }  // namespace dvs_line_tracker

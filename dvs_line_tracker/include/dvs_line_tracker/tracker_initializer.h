@@ -42,7 +42,7 @@ struct InitializerStats
   uint64_t pose_failed = 0;           ///< polygons whose corners gave no consistent pose
   uint64_t coverage_failed = 0;       ///< poses whose projected map was not backed by window events
   uint64_t unexplained = 0;           ///< poses of open polygons (one side out of view) or of maps of several polygons that left most recent events unexplained
-  uint64_t ambiguous = 0;             ///< the map did not decide: two map polygons explained the events about equally well, or a symmetric polygon's rotations were about equally upright, or the camera rolled too fast for the map's up to pick one
+  uint64_t ambiguous = 0;             ///< the map did not decide: two map polygons explained the events about equally well, one rejected for its sides' coverage explained clearly more of them, or a symmetric polygon's rotations were about equally upright, or the camera rolled too fast for the map's up to pick one
   uint64_t unconfirmed = 0;           ///< valid detections waiting for an agreeing one
   uint64_t declined = 0;              ///< confirmed poses the tracker declined (too little map in view)
   uint64_t accepted = 0;

@@ -123,6 +123,10 @@ struct LineTrackerParams
   /// are structure: next to two others of them (neighbour_activity.h; pure noise gives ~2.2 %,
   /// the edges of a scene the pose does not explain 40-90 %).
   double min_unattributed_structure = 0.1;
+  /// A check attributing less than this fraction of the track's own level (a running mean, at
+  /// least 50 %) is a loss when at least half of the rest is structure and the buffers' mean
+  /// residual is >= 0.4 px (a slip after an occlusion; 0: off).
+  double attribution_drop_ratio = 0.35;
   double min_depth_m = 0.05;         ///< map points closer (or behind) -> lost
   /// Event time going back by more than this (a bag replayed into a running tracker) restarts
   /// the tracker (everything time-dependent is forgotten) and says so.
