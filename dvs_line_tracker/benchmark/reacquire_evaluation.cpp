@@ -1,11 +1,11 @@
 #include "reacquire_evaluation.h"
 
-#include <dvs_calibration/trajectory_accuracy.h>
+#include "benchmark_stats.h"
+
 #include <dvs_line_tracker/line_tracker.h>
 
 #include <algorithm>
 #include <cmath>
-#include <ctime>
 #include <random>
 
 namespace dvs_line_tracker
@@ -24,13 +24,6 @@ constexpr double kRefireWindowS = 0.2;
 constexpr double kFlipRepeatS = 1.2;
 constexpr double kSettleS = 0.3;      ///< the issue's re-acquisition time: tracked fraction counted after it
 
-double cpuSeconds()
-{
-  timespec ts;
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return ts.tv_sec + ts.tv_nsec * 1e-9;
-}
-
 /// 0 before 0, 1 after 1, smooth (zero slope at both ends) between.
 double smoothStep(double x)
 {
@@ -39,29 +32,6 @@ double smoothStep(double x)
 }
 
 double uniform(std::mt19937_64& rng, double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(rng); }
-
-bool within(const SweepScene& s, const dvs_calibration::Pose& truth, const dvs_calibration::Pose& estimate,
-            double distance_ratio, double angle_deg)
-{
-  const double distance = (truth.p_world_camera() - s.target).norm();
-  return positionError(truth, estimate) <= distance_ratio * distance &&
-         orientationError(truth, estimate) <= angle_deg * kDeg;
-}
-
-/// Whether any part of the map projects into the image at `pose` (sampled along its edges).
-bool mapInView(const SweepScene& s, const dvs_calibration::Pose& pose)
-{
-  for (const auto& seg : s.map.segments)
-    for (int i = 0; i <= 32; ++i)
-    {
-      Eigen::Vector2d px;
-      const Eigen::Vector3d pw = seg.p0_world + (seg.p1_world - seg.p0_world) * (i / 32.0);
-      if (s.camera.project(pose.toCamera(pw), px) && px.x() >= -0.5 && px.y() >= -0.5 &&
-          px.x() <= s.camera.width() - 0.5 && px.y() <= s.camera.height() - 0.5)
-        return true;
-    }
-  return false;
-}
 }  // namespace
 
 const char* disturbanceLabel(DisturbanceKind kind)
@@ -209,8 +179,6 @@ ReacquireResult runReacquireScene(const SweepScene& scene, int index, const Line
   r.disturbance = d;
   r.edges_fire_s = disturbed.edges_fire_s;
   r.edges_refire_s = disturbed.edges_refire_s;
-  r.events = events.size();
-  const double back_at = d.backAt();
   const dvs_calibration::Trajectory gt = dvs_screen_sim::sampleTrajectory(*ds.trajectory, ds.duration, 1000.0);
   const double judge_from = r.edges_refire_s >= 0 ? r.edges_refire_s : 1e300;
 
@@ -220,7 +188,7 @@ ReacquireResult runReacquireScene(const SweepScene& scene, int index, const Line
   bool tracking = false;
   uint64_t losses_at_start = 0;
   bool started = false;
-  const double c0 = cpuSeconds();
+  const double c0 = threadCpuSeconds();
   for (const auto& e : events)
   {
     const double t = e.t_ns * 1e-9;
@@ -236,21 +204,21 @@ ReacquireResult runReacquireScene(const SweepScene& scene, int index, const Line
       estimates.push_back({t, tracker.pose()});
       const dvs_calibration::Pose truth = ds.trajectory->poseAt(t);
       if (t < d.start_s)
-        r.tracking_before = now_tracking && within(ds, truth, tracker.pose(), 0.1, 10);
+        r.tracking_before = now_tracking && poseWithin(ds, truth, tracker.pose(), 0.1, 10);
       else if (!tracking)
       {
         ++r.reinitializations;
-        if (!within(ds, truth, tracker.pose(), 0.1, 10))
+        if (!poseWithin(ds, truth, tracker.pose(), 0.1, 10))
           ++r.false_reinitializations;
       }
-      if (t >= judge_from && r.back_after_s < 0 && now_tracking && within(ds, truth, tracker.pose(), 0.05, 3))
+      if (t >= judge_from && r.back_after_s < 0 && now_tracking && poseWithin(ds, truth, tracker.pose(), 0.05, 3))
         r.back_after_s = t - judge_from;
     }
     else if (t < d.start_s && !now_tracking)
       r.tracking_before = false;
     tracking = now_tracking;
   }
-  r.tracker_cpu_s = cpuSeconds() - c0;
+  r.tracker_cpu_s = threadCpuSeconds() - c0;
   r.kept = started && tracker.stats().losses == losses_at_start && r.reinitializations == 0;
   r.last_loss_reason = tracker.lastLossReason();
   r.init_stats = tracker.initializerStats();
@@ -259,13 +227,9 @@ ReacquireResult runReacquireScene(const SweepScene& scene, int index, const Line
   for (const auto& g : gt)
     if (g.t >= judge_from + kSettleS && visibleEdges(ds, g.T_world_camera) >= 3)
       gt_in_view.push_back(g);
-  dvs_calibration::AccuracyOptions accuracy;
-  accuracy.max_age_s = 0.05;
-  accuracy.max_position_m = 0.1 * ds.distance;
-  accuracy.max_orientation_rad = 10.0 * kDeg;
   if (!estimates.empty() && !gt_in_view.empty())
   {
-    const auto after = dvs_calibration::evaluateTrajectory(estimates, gt_in_view, accuracy);
+    const auto after = dvs_calibration::evaluateTrajectory(estimates, gt_in_view, sweepAccuracyOptions(ds));
     // evaluateTrajectory counts from the first estimate on: every sample here is after the
     // disturbance, so a track that never came back counts as untracked.
     r.tracked_after = after.samples > 0 ? static_cast<double>(after.samples_tracked) / gt_in_view.size() : 0.0;

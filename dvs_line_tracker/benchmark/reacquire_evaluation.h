@@ -86,7 +86,6 @@ struct ReacquireResult
   /// Ground-truth samples from edges_refire_s + 0.3 s on with >= 3 edges in view, tracked (10 % / 10 deg).
   double tracked_after = 0;
   double rms_after_ratio = 0;  ///< RMS position error over the same span / the start distance
-  uint64_t events = 0;
   double tracker_cpu_s = 0;
   std::string last_loss_reason;
   InitializerStats init_stats;

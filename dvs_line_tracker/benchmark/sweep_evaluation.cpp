@@ -1,5 +1,7 @@
 #include "sweep_evaluation.h"
 
+#include "benchmark_stats.h"
+
 #include <dvs_calibration/trajectory_accuracy.h>
 #include <dvs_calibration/trajectory_file.h>
 #include <dvs_driver/event_text_io.h>
@@ -16,11 +18,12 @@ namespace
 constexpr double kDeg = 180.0 / M_PI;
 constexpr double kMinVisiblePx = 10.0;
 
-double cpuSeconds()
+/// Whether world point `pw` projects into the (distorted) image at `pose`; its pixel into `px`.
+bool projectsIntoImage(const dvs_calibration::CameraModel& camera, const dvs_calibration::Pose& pose,
+                       const Eigen::Vector3d& pw, Eigen::Vector2d& px)
 {
-  timespec ts;
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return ts.tv_sec + ts.tv_nsec * 1e-9;
+  return camera.project(pose.toCamera(pw), px) && px.x() >= -0.5 && px.y() >= -0.5 &&
+         px.x() <= camera.width() - 0.5 && px.y() <= camera.height() - 0.5;
 }
 
 /// Length [px] of the part of a map segment that projects into the (distorted) image.
@@ -34,8 +37,7 @@ double visibleLength(const dvs_calibration::CameraModel& camera, const dvs_calib
   {
     const Eigen::Vector3d pw = seg.p0_world + (seg.p1_world - seg.p0_world) * (static_cast<double>(i) / kSamples);
     Eigen::Vector2d px;
-    const bool in = camera.project(pose.toCamera(pw), px) && px.x() >= -0.5 && px.y() >= -0.5 &&
-                    px.x() <= camera.width() - 0.5 && px.y() <= camera.height() - 0.5;
+    const bool in = projectsIntoImage(camera, pose, pw, px);
     if (in && prev_in)
       length += (px - prev).norm();
     prev = px;
@@ -45,6 +47,37 @@ double visibleLength(const dvs_calibration::CameraModel& camera, const dvs_calib
 }
 
 }  // namespace
+
+bool mapInView(const SweepScene& s, const dvs_calibration::Pose& pose)
+{
+  constexpr int kSamples = 32;
+  for (const auto& seg : s.map.segments)
+    for (int i = 0; i <= kSamples; ++i)
+    {
+      Eigen::Vector2d px;
+      if (projectsIntoImage(s.camera, pose,
+                            seg.p0_world + (seg.p1_world - seg.p0_world) * (static_cast<double>(i) / kSamples), px))
+        return true;
+    }
+  return false;
+}
+
+bool poseWithin(const SweepScene& s, const dvs_calibration::Pose& truth, const dvs_calibration::Pose& estimate,
+                double distance_ratio, double angle_deg)
+{
+  const double distance = (truth.p_world_camera() - s.target).norm();
+  return positionError(truth, estimate) <= distance_ratio * distance &&
+         orientationError(truth, estimate) * kDeg <= angle_deg;
+}
+
+dvs_calibration::AccuracyOptions sweepAccuracyOptions(const SweepScene& s)
+{
+  dvs_calibration::AccuracyOptions accuracy;
+  accuracy.max_age_s = 0.05;
+  accuracy.max_position_m = 0.1 * s.distance;
+  accuracy.max_orientation_rad = 10.0 / kDeg;
+  return accuracy;
+}
 
 int visibleEdges(const SweepScene& s, const dvs_calibration::Pose& pose)
 {
@@ -106,13 +139,13 @@ double edgesFireTime(const SweepScene& s, const dvs_calibration::Trajectory& gt,
 dvs_driver::EventVector simulateSweepScene(const SweepScene& s, double* cpu_s)
 {
   dvs_driver::EventVector events;
-  const double c0 = cpuSeconds();
+  const double c0 = threadCpuSeconds();
   dvs_screen_sim::EventSimulator sim(s.camera, s.scene, s.events, dvs_screen_sim::SamplingConfig(), s.spec.seed);
   sim.start(*s.trajectory);
   sim.advanceTo(s.duration, events);
   sim.flush(events);
   if (cpu_s)
-    *cpu_s = cpuSeconds() - c0;
+    *cpu_s = threadCpuSeconds() - c0;
   return events;
 }
 
@@ -139,7 +172,7 @@ SweepResult runSweepScene(const SweepScene& s, const LineTrackerParams& params)
   LineTracker tracker(s.camera, s.map, params);
   dvs_calibration::Trajectory estimates;
   estimates.reserve(events.size());
-  const double c0 = cpuSeconds();
+  const double c0 = threadCpuSeconds();
   bool tracking = false;
   for (const auto& e : events)
   {
@@ -153,21 +186,19 @@ SweepResult runSweepScene(const SweepScene& s, const LineTrackerParams& params)
       {
         // A (re-)initialisation: compare it with the truth at its event's time.
         const dvs_calibration::Pose truth = s.trajectory->poseAt(t);
-        const double dist = (truth.p_world_camera() - s.target).norm();
-        const double pos = positionError(truth, tracker.pose()), ang = orientationError(truth, tracker.pose()) * kDeg;
         ++r.initializations;
-        if (pos > 0.1 * dist || ang > 10)
+        if (!poseWithin(s, truth, tracker.pose(), 0.1, 10))
           ++r.false_initializations;
         if (r.first_pose_s < 0)
         {
           r.first_pose_s = t;
-          r.first_pose_correct = pos <= 0.05 * dist && ang <= 3;
+          r.first_pose_correct = poseWithin(s, truth, tracker.pose(), 0.05, 3);
         }
       }
     }
     tracking = now_tracking;
   }
-  r.tracker_cpu_s = cpuSeconds() - c0;
+  r.tracker_cpu_s = threadCpuSeconds() - c0;
   r.losses = static_cast<int>(tracker.stats().losses);
   r.events_outside_sensor = tracker.stats().events_outside_sensor;
   r.init_stats = tracker.initializerStats();
@@ -180,10 +211,7 @@ SweepResult runSweepScene(const SweepScene& s, const LineTrackerParams& params)
   for (const auto& g : gt)
     if (visibleEdges(s, g.T_world_camera) >= 3)
       gt_in_view.push_back(g);
-  dvs_calibration::AccuracyOptions accuracy;
-  accuracy.max_age_s = 0.05;
-  accuracy.max_position_m = 0.1 * s.distance;
-  accuracy.max_orientation_rad = 10.0 / kDeg;
+  const dvs_calibration::AccuracyOptions accuracy = sweepAccuracyOptions(s);
   if (!estimates.empty())
   {
     const auto in_view = dvs_calibration::evaluateTrajectory(estimates, gt_in_view, accuracy);

@@ -4,6 +4,8 @@
 // initialisations, the tracked fraction while at least three map edges are in view, and the RMS.
 #include "sweep_scene.h"
 
+#include <dvs_calibration/trajectory_accuracy.h>
+
 #include <dvs_line_tracker/tracker_initializer.h>
 #include <dvs_line_tracker/tracker_params.h>
 
@@ -35,6 +37,19 @@ struct SweepResult
   InitializerStats init_stats;
   std::string last_loss_reason;
 };
+
+/// Whether any part of the map projects into the (distorted) image at `pose` (sampled along its
+/// edges).
+bool mapInView(const SweepScene& scene, const dvs_calibration::Pose& pose);
+
+/// `estimate` within `distance_ratio` of the camera's distance to the map centre and `angle_deg`
+/// of `truth` (the sweep's bounds: 5 % / 3 deg correct, beyond 10 % / 10 deg false).
+bool poseWithin(const SweepScene& scene, const dvs_calibration::Pose& truth, const dvs_calibration::Pose& estimate,
+                double distance_ratio, double angle_deg);
+
+/// What counts as tracked against the scene's ground truth: a pose at most 50 ms old, within
+/// 10 % of the start distance and 10 deg.
+dvs_calibration::AccuracyOptions sweepAccuracyOptions(const SweepScene& scene);
 
 /// Map edges at least 10 px long in the (distorted) image at `pose`.
 int visibleEdges(const SweepScene& scene, const dvs_calibration::Pose& pose);
