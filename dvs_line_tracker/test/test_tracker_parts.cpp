@@ -8,6 +8,7 @@
 #include <dvs_line_tracker/tracker_params.h>
 
 #include <gtest/gtest.h>
+#include <memory>
 
 #include <random>
 
@@ -59,6 +60,7 @@ TEST(TrackerParams, TableNamesTheBadParameterAndItsBounds)
   p.init_min_up_margin = -0.1;
   p.init_max_roll_rate_deg_s = 0;
   p.init_max_surrounding_coverage = 1.5;
+  p.attribution_drop_ratio = -0.1;
   const std::string err = validateParams(p);
   EXPECT_NE(err.find("buffer_size must be in [2, 1024] events (got 1)"), std::string::npos) << err;
   EXPECT_NE(err.find("hough_radius_bin_px must be in [0.1, 100] px"), std::string::npos) << err;
@@ -66,6 +68,7 @@ TEST(TrackerParams, TableNamesTheBadParameterAndItsBounds)
   EXPECT_NE(err.find("init_min_up_margin must be in [0, 2]"), std::string::npos) << err;
   EXPECT_NE(err.find("init_max_roll_rate must be"), std::string::npos) << err;
   EXPECT_NE(err.find("init_max_surrounding_coverage must be in [0, 1] (got 1.5)"), std::string::npos) << err;
+  EXPECT_NE(err.find("attribution_drop_ratio must be in [0, 1] (got -0.1)"), std::string::npos) << err;
   EXPECT_THROW(LineTracker(dvs_calibration::CameraModel::dvs128(), defaultSquareMap(), p), std::invalid_argument);
 }
 
@@ -401,6 +404,57 @@ TEST_F(LossMonitorTest, NoiseAloneSaysNothingAgainstThePose)
   LossMonitor any(params, 640, 480, 9375);
   countEvents(any, params.quality_check_interval, 1, false, 640, 480);
   EXPECT_NE(any.check(state).find("attribution collapsed"), std::string::npos);
+}
+
+// A track whose attributed share falls far below its own level is lost when the rest is
+// structure and its buffers sit off their lines (a slip); not when the rest is noise, not while
+// the buffers fit their lines, not with attribution_drop_ratio 0.
+TEST_F(LossMonitorTest, AttributionDropBelowTheTracksLevelIsALoss)
+{
+  const int n = params.quality_check_interval;
+  const auto offsetBuffers = [&](EstimatorState& st, double px) {
+    for (size_t i = 0; i < st.buffers.size(); ++i)
+    {
+      const ProjectedSegment& seg = st.projected[i];
+      for (int k = 0; k < st.buffers[i].capacity(); ++k)
+        st.buffers[i].insert(seg.a + (seg.b - seg.a) * ((k + 0.5) / st.buffers[i].capacity()) + px * seg.normal, seg);
+    }
+  };
+  const auto warmedUp = [&](const LineTrackerParams& p) {
+    auto m = std::make_unique<LossMonitor>(p, 128, 128, 500);
+    for (int k = 0; k < 20; ++k)  // the track's level: 90 % attributed
+    {
+      countEvents(*m, n, n * 9 / 10, true);
+      EXPECT_EQ(m->check(state), "");
+    }
+    return m;
+  };
+  // The buffers still on their lines: a drop to 20 % is no loss.
+  auto monitor = warmedUp(params);
+  countEvents(*monitor, n, n / 5, true);
+  EXPECT_EQ(monitor->check(state), "");
+
+  offsetBuffers(state, 1.0);
+  ASSERT_GE(meanResidualPx(state), 0.4);
+  // A drop to 20 % with the rest an edge: lost, and says so.
+  monitor = warmedUp(params);
+  countEvents(*monitor, n, n / 5, true);
+  const std::string reason = monitor->check(state);
+  EXPECT_NE(reason.find("attribution dropped"), std::string::npos) << reason;
+  // The same drop with the rest noise: no loss.
+  monitor = warmedUp(params);
+  countEvents(*monitor, n, n / 5, false);
+  EXPECT_EQ(monitor->check(state), "");
+  // A smaller drop (to 40 %, above 0.35 x 90 %): no loss.
+  monitor = warmedUp(params);
+  countEvents(*monitor, n, n * 2 / 5, true);
+  EXPECT_EQ(monitor->check(state), "");
+  // The rule off.
+  LineTrackerParams off = params;
+  off.attribution_drop_ratio = 0;
+  monitor = warmedUp(off);
+  countEvents(*monitor, n, n / 5, true);
+  EXPECT_EQ(monitor->check(state), "");
 }
 
 namespace
