@@ -298,6 +298,13 @@ std::vector<std::pair<int, int>> HoughLineDetector::candidateBins() const
   return bins;
 }
 
+bool HoughLineDetector::radiusPeak(int angle_bin, int radius_bin) const
+{
+  const int* row = acc_.data() + static_cast<size_t>(angle_bin) * num_r_;
+  const int v = row[radius_bin];
+  return (radius_bin == 0 || row[radius_bin - 1] <= v) && (radius_bin + 1 == num_r_ || row[radius_bin + 1] <= v);
+}
+
 namespace
 {
 /// The `count` positions of a ring buffer whose next write goes to `head`, oldest first.
@@ -331,8 +338,9 @@ std::vector<Eigen::Vector2d> HoughLineDetector::evidencePoints() const
   return ringPoints(evidence_, evidence_head_, evidence_count_);
 }
 
-std::vector<ImageSegment> HoughLineDetector::detectSegments(bool progressive) const
+std::vector<ImageSegment> HoughLineDetector::detectSegments(Pass pass) const
 {
+  const bool progressive = pass == Pass::kProgressive;
   // A second detection on the same window (the full pass after the progressive one) reuses the
   // window's points, candidates, index and every bin's line and segments found so far.
   if (detected_generation_ != window_generation_ || detected_by_ != this)
@@ -429,6 +437,8 @@ std::vector<ImageSegment> HoughLineDetector::detectSegments(bool progressive) co
   {
     const auto [k, rb] = bins[j];
     if (progressive && fresh_votes_[k * num_r_ + rb] < params_.vote_threshold)
+      continue;
+    if (pass == Pass::kRadiusPeaks && !radiusPeak(k, rb))
       continue;
     BinResult& result = bin_results_[j];
     if (result.state == BinResult::kUnknown)

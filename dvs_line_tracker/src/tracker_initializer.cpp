@@ -255,14 +255,16 @@ bool TrackerInitializer::tryInitialize(const StartTracking& start)
   ++stats_.attempts;
   const RecentEvents recent = recentEvents();
   const bool progressive = params_.hough.remove_found_votes;
-  std::vector<ImageSegment> segments = detectSegments(progressive);
+  std::vector<ImageSegment> segments =
+      detectSegments(progressive ? HoughLineDetector::Pass::kProgressive : HoughLineDetector::Pass::kEveryBin);
   Outcome o = trySegments(segments, recent, start, params_.polygon);
   // Nothing to start from or to confirm: the full Hough finds what noise hid from the
-  // progressive one (a noise event explained by a wrong segment no longer votes for the side).
+  // progressive one (a noise event explained by a wrong segment no longer votes for the side),
+  // from each angle's radius peaks (the bins across an edge's band fit the same edge).
   if (o == Outcome::kNext && progressive && params_.init_full_hough_fallback && hough_.numWindowEvents() > 0)
   {
     ++stats_.full_hough_attempts;
-    segments = detectSegments(false);
+    segments = detectSegments(HoughLineDetector::Pass::kRadiusPeaks);
     o = trySegments(segments, recent, start, params_.polygon);
   }
   // Still nothing: the polygons only the wider turn bounds admit (a polygon seen at a steep
@@ -288,9 +290,9 @@ bool TrackerInitializer::wideTurnsEnabled() const
          params_.polygon_wide_max_angle_deg > params_.polygon.max_turn_angle_deg;
 }
 
-std::vector<ImageSegment> TrackerInitializer::detectSegments(bool progressive)
+std::vector<ImageSegment> TrackerInitializer::detectSegments(HoughLineDetector::Pass pass)
 {
-  std::vector<ImageSegment> segments = hough_.detectSegments(progressive);
+  std::vector<ImageSegment> segments = hough_.detectSegments(pass);
   segments.erase(std::remove_if(segments.begin(), segments.end(),
                                 [this](const ImageSegment& sg) { return alongBorder(sg); }),
                  segments.end());

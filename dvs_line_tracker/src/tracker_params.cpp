@@ -35,7 +35,7 @@ dvs_driver::ParamTable trackerParamTable(LineTrackerParams& p, std::string& solv
   t.add("hough_remove_found_votes", p.hough.remove_found_votes,
         "progressive Hough: a found segment's events stop voting for the rest of the detection");
   t.add("init_full_hough_fallback", p.init_full_hough_fallback,
-        "when the progressive Hough's segments give no pose, the same attempt tries the full Hough");
+        "when the progressive Hough's segments give no pose, the same attempt tries the full Hough on each angle's radius peaks");
   t.add("init_neighbour_filter", p.hough.neighbour_filter, "vote only for events with neighbours that fired shortly before");
   t.add("init_neighbour_filter_events", p.hough.neighbour_filter_events, "events", 1, 10000000,
         "'shortly before': among this many latest events");

@@ -321,6 +321,7 @@ TEST(Hough, ASecondDetectionOnTheSameWindowIsTheOneAFreshDetectorMakes)
   HoughLineDetector reused(128, 128, p);
   addThickSquare(reused, 30, 30, 60);
   const auto progressive = reused.detectSegments(true);
+  const auto peaks = reused.detectSegments(HoughLineDetector::Pass::kRadiusPeaks);
   const auto full = reused.detectSegments(false);
   const auto full_again = reused.detectSegments(false);
   {
@@ -328,6 +329,9 @@ TEST(Hough, ASecondDetectionOnTheSameWindowIsTheOneAFreshDetectorMakes)
     addThickSquare(fresh, 30, 30, 60);
     EXPECT_TRUE(same(full, fresh.detectSegments(false)));
     EXPECT_TRUE(same(full_again, full));
+    HoughLineDetector fresh_peaks(128, 128, p);
+    addThickSquare(fresh_peaks, 30, 30, 60);
+    EXPECT_TRUE(same(peaks, fresh_peaks.detectSegments(HoughLineDetector::Pass::kRadiusPeaks)));
     HoughLineDetector fresh_progressive(128, 128, p);
     addThickSquare(fresh_progressive, 30, 30, 60);
     EXPECT_TRUE(same(progressive, fresh_progressive.detectSegments(true)));
@@ -380,6 +384,58 @@ TEST(Hough, ProgressiveVoteRemovalFindsTheSameSidesOfAThickSquare)
     else
       EXPECT_GT(segs.size(), 4u);
   }
+}
+
+TEST(Hough, RadiusPeaksFindEverySideOfABandFromFewerLines)
+{
+  // An edge that moved while the window filled is a band several radius bins wide, densest
+  // where the edge spent longest. Every bin across the band fits a line of its own and adds
+  // pieces beside the side; the radius peaks find each side from fewer lines.
+  HoughParams p;
+  p.neighbour_filter = false;
+  p.window_events = 8000;
+  p.max_candidates = 1000;
+  p.max_segments = 1000;
+  HoughLineDetector h(128, 128, p);
+  const double x0 = 30, y0 = 30, side = 60;
+  for (int step = 0; step <= static_cast<int>(side); ++step)
+    for (int w = -4; w <= 4; ++w)
+    {
+      const double s = step;
+      const Eigen::Vector2d pts[4] = {{x0 + s, y0 + w}, {x0 + side + w, y0 + s}, {x0 + side - s, y0 + side + w},
+                                      {x0 + w, y0 + side - s}};
+      for (const auto& q : pts)
+        for (int repeat = std::abs(w); repeat < 5; ++repeat)
+        {
+          const int x = static_cast<int>(std::lround(q.x())), y = static_cast<int>(std::lround(q.y()));
+          h.addEvent(static_cast<float>(x), static_cast<float>(y), x, y, 0);
+        }
+    }
+  const std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> sides = {
+      {{30, 30}, {90, 30}}, {{90, 30}, {90, 90}}, {{90, 90}, {30, 90}}, {{30, 90}, {30, 30}}};
+  const auto every = h.detectSegments(HoughLineDetector::Pass::kEveryBin);
+  const auto peaks = h.detectSegments(HoughLineDetector::Pass::kRadiusPeaks);
+  // The band's corners overlap the neighbouring sides' bands: the ends lie up to half the
+  // band's width beyond the corners.
+  EXPECT_EQ(matchedSides(every, sides, 5.0), 4);
+  EXPECT_EQ(matchedSides(peaks, sides, 5.0), 4);
+  EXPECT_LT(peaks.size(), every.size() * 3 / 4);
+  // Some candidate bins of the band are shoulders, not peaks, and every peak has as many votes
+  // as its radius neighbours.
+  int shoulders = 0;
+  for (const auto& [k, rb] : h.candidateBins())
+  {
+    const bool peak = h.radiusPeak(k, rb);
+    shoulders += !peak;
+    if (peak)
+    {
+      if (rb > 0)
+        EXPECT_GE(h.votes(k, rb), h.votes(k, rb - 1));
+      if (rb + 1 < h.numRadiusBins())
+        EXPECT_GE(h.votes(k, rb), h.votes(k, rb + 1));
+    }
+  }
+  EXPECT_GT(shoulders, 0);
 }
 
 TEST(Hough, ProgressiveVoteRemovalKeepsASideWhoseCornerEventsAnotherSideTook)

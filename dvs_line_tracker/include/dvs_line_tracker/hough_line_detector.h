@@ -103,12 +103,32 @@ public:
   /// The latest `evidence_events` voted positions (at least the window), oldest first.
   std::vector<Eigen::Vector2d> evidencePoints() const;
 
+  /// Which candidate bins a detection splits into segments.
+  enum class Pass
+  {
+    kProgressive,  ///< most votes first; a found segment's points stop voting for the rest
+    kEveryBin,     ///< every candidate bin (the full Hough, thesis Fig. 4.2)
+    /// Every candidate bin that has no more votes than its two radius neighbours at the same
+    /// angle: the peaks across a line's radius. An edge that moved while the window filled is a
+    /// band of events several bins wide at its angle; the full Hough fitted a line to every bin
+    /// across the band (about 130 distinct lines per detection on the DVS128 flip), the peaks
+    /// fit one or two of them (BENCHMARKS.md, twenty-fourth session).
+    kRadiusPeaks
+  };
+
   /// Segments found from all candidate bins, duplicates removed, longest first.
   std::vector<ImageSegment> detectSegments() const { return detectSegments(params_.remove_found_votes); }
   /// The same, progressive (found segments' points stop voting) or not, whatever the parameters say.
-  std::vector<ImageSegment> detectSegments(bool progressive) const;
+  std::vector<ImageSegment> detectSegments(bool progressive) const
+  {
+    return detectSegments(progressive ? Pass::kProgressive : Pass::kEveryBin);
+  }
+  std::vector<ImageSegment> detectSegments(Pass pass) const;
 
   const HoughParams& params() const { return params_; }
+
+  /// Whether the bin has no fewer votes than its radius neighbours at the same angle.
+  bool radiusPeak(int angle_bin, int radius_bin) const;
 
 private:
   /// Adds `increment` to the bins of the point's Hough curve in `acc`.

@@ -122,7 +122,7 @@ private:
   Outcome trySegments(const std::vector<ImageSegment>& segments, const RecentEvents& recent,
                       const StartTracking& start, const PolygonSearchParams& search);
   /// The Hough window's segments (progressive or full), those along the image border removed.
-  std::vector<ImageSegment> detectSegments(bool progressive);
+  std::vector<ImageSegment> detectSegments(HoughLineDetector::Pass pass);
   /// The wide turn bounds reach beyond polygon_min/max_angle_deg.
   bool wideTurnsEnabled() const;
   Pose refineWithWindowEvents(const Pose& initial, const RecentEvents& recent) const;
