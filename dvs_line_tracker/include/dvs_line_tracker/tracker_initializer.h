@@ -145,6 +145,9 @@ private:
   void pickRotationByEvidence(InitialPose& candidate, Coverage& coverage, const RecentEvents& recent) const;
   /// The camera pose that sees the map as `pose` does after the map symmetry `symmetry`.
   static Pose symmetric(const Eigen::Isometry3d& symmetry, const Pose& pose);
+  /// After a loss: `winner` lies far from the prior while another of `hypotheses` (the map
+  /// polygons' poses for one image polygon) lies much closer to it.
+  bool priorContradicts(const Pose& winner, const std::vector<Pose>& hypotheses) const;
   /// The same hypothesis (sameHypothesis), or one of its symmetric poses (lineMapSymmetries).
   bool sameUpToSymmetry(const Pose& a, const Pose& b) const;
   /// A pose the events decided (infinite up_margin): replaced by its most upright symmetric
