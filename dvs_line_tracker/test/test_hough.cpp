@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <memory>
 #include <random>
 
@@ -269,20 +270,22 @@ TEST(SegmentSplit, FitLineRecoversATiltedLine)
 
 namespace
 {
-// The four thick (3 px) sides of a square, their events interleaved as an edge sweep makes them.
-void addThickSquare(HoughLineDetector& h, double x0, double y0, double side)
+// The four thick sides of a square (2 half_width + 1 px), their events interleaved as an edge
+// sweep makes them; a pixel `w` px off a side's line fires max(1, peak_events - |w|) times.
+void addThickSquare(HoughLineDetector& h, double x0, double y0, double side, int half_width = 1, int peak_events = 1)
 {
   for (int step = 0; step <= static_cast<int>(side); ++step)
-    for (int w = -1; w <= 1; ++w)
+    for (int w = -half_width; w <= half_width; ++w)
     {
       const double s = step;
       const Eigen::Vector2d pts[4] = {{x0 + s, y0 + w}, {x0 + side + w, y0 + s}, {x0 + side - s, y0 + side + w},
                                       {x0 + w, y0 + side - s}};
       for (const auto& p : pts)
-      {
-        const int x = static_cast<int>(std::lround(p.x())), y = static_cast<int>(std::lround(p.y()));
-        h.addEvent(static_cast<float>(x), static_cast<float>(y), x, y, 0);
-      }
+        for (int repeat = 0; repeat < std::max(1, peak_events - std::abs(w)); ++repeat)
+        {
+          const int x = static_cast<int>(std::lround(p.x())), y = static_cast<int>(std::lround(p.y()));
+          h.addEvent(static_cast<float>(x), static_cast<float>(y), x, y, 0);
+        }
     }
 }
 
@@ -397,20 +400,7 @@ TEST(Hough, RadiusPeaksFindEverySideOfABandFromFewerLines)
   p.max_candidates = 1000;
   p.max_segments = 1000;
   HoughLineDetector h(128, 128, p);
-  const double x0 = 30, y0 = 30, side = 60;
-  for (int step = 0; step <= static_cast<int>(side); ++step)
-    for (int w = -4; w <= 4; ++w)
-    {
-      const double s = step;
-      const Eigen::Vector2d pts[4] = {{x0 + s, y0 + w}, {x0 + side + w, y0 + s}, {x0 + side - s, y0 + side + w},
-                                      {x0 + w, y0 + side - s}};
-      for (const auto& q : pts)
-        for (int repeat = std::abs(w); repeat < 5; ++repeat)
-        {
-          const int x = static_cast<int>(std::lround(q.x())), y = static_cast<int>(std::lround(q.y()));
-          h.addEvent(static_cast<float>(x), static_cast<float>(y), x, y, 0);
-        }
-    }
+  addThickSquare(h, 30, 30, 60, 4, 5);  // a 9 px band, 5 events per pixel on the side's line
   const std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> sides = {
       {{30, 30}, {90, 30}}, {{90, 30}, {90, 90}}, {{90, 90}, {30, 90}}, {{30, 90}, {30, 30}}};
   const auto every = h.detectSegments(HoughLineDetector::Pass::kEveryBin);
