@@ -86,6 +86,29 @@ TEST(PoseTypes, RollRateIsTheTurnAboutTheOpticalAxis)
   EXPECT_NEAR(rollRateDegS(a, panned, 0.01), 0, 1e-9);
 }
 
+TEST(PoseTypes, AnIncrementTurnsByItsRotationVector)
+{
+  // Small increments (the per-event steps) take a formula of their own: each must be the
+  // rotation exp([w]x) to third order in |w|, orthonormal to rounding, and move the camera
+  // centre as T_camera_world' = (dR, dt) * T_camera_world says.
+  using dvs_calibration::lookAt;
+  const Pose start = lookAt(Eigen::Vector3d(0.3, -0.2, 1.5), Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitY(), 0.1);
+  for (const double size : {1e-6, 1e-4, 3e-3, 9e-3, 0.05, 0.5})
+  {
+    Vector6d delta;
+    delta << 0.6 * size, -0.48 * size, 0.64 * size, 0.01, -0.02, 0.03;
+    Pose p = start;
+    p.applyCameraIncrement(delta);
+    const Eigen::Matrix3d dR = Eigen::AngleAxisd(size, delta.head<3>().normalized()).toRotationMatrix();
+    const double third_order = size * size * size;
+    EXPECT_LT((p.R_camera_world - dR * start.R_camera_world).norm(), third_order + 1e-15) << "|w| " << size;
+    EXPECT_LT((p.R_camera_world * p.R_camera_world.transpose() - Eigen::Matrix3d::Identity()).norm(), 1e-14);
+    EXPECT_NEAR(p.R_camera_world.determinant(), 1.0, 1e-14);
+    EXPECT_LT((p.t_camera_world - (p.R_camera_world * start.R_world_camera() * start.t_camera_world + delta.tail<3>())).norm(),
+              1e-14);
+  }
+}
+
 TEST(TrackerParams, CrossParameterRules)
 {
   LineTrackerParams p;

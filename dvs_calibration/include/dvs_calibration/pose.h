@@ -54,9 +54,19 @@ struct Pose
     Eigen::Matrix3d dR;
     if (angle2 < 1e-4)
     {
-      // Per-event increments are tiny: the unit quaternion (1, w/2) normalised, no trigonometry
-      // (exact to third order in |w|).
-      dR = Eigen::Quaterniond(1.0, 0.5 * w.x(), 0.5 * w.y(), 0.5 * w.z()).normalized().toRotationMatrix();
+      // Per-event increments are tiny: the rotation of the quaternion (1, v), v = w/2,
+      // normalised (exact to third order in |w|), without trigonometry or a square root:
+      // ((1 - v.v) I + 2 v v^T + 2 [v]x) / (1 + v.v).
+      const Eigen::Vector3d v = 0.5 * w;
+      const double vv = v.squaredNorm();
+      const double s = 1.0 / (1.0 + vv);
+      const double d = (1.0 - vv) * s, s2 = 2.0 * s;
+      const double xx = s2 * v.x() * v.x(), yy = s2 * v.y() * v.y(), zz = s2 * v.z() * v.z();
+      const double xy = s2 * v.x() * v.y(), xz = s2 * v.x() * v.z(), yz = s2 * v.y() * v.z();
+      const double sx = s2 * v.x(), sy = s2 * v.y(), sz = s2 * v.z();
+      dR << d + xx, xy - sz, xz + sy,  //
+          xy + sz, d + yy, yz - sx,    //
+          xz - sy, yz + sx, d + zz;
     }
     else
     {
