@@ -121,7 +121,8 @@ private:
   /// `search`, each tried as a hypothesis.
   Outcome trySegments(const std::vector<ImageSegment>& segments, const RecentEvents& recent,
                       const StartTracking& start, const PolygonSearchParams& search);
-  /// The Hough window's segments (progressive or full), those along the image border removed.
+  /// The Hough window's segments from one pass (progressive, every bin, radius peaks), those
+  /// along the image border removed.
   std::vector<ImageSegment> detectSegments(HoughLineDetector::Pass pass);
   /// The wide turn bounds reach beyond polygon_min/max_angle_deg.
   bool wideTurnsEnabled() const;
