@@ -4,22 +4,56 @@
 
 namespace dvs_line_tracker
 {
+void TrackingGeometry::indexSharedEndpoints()
+{
+  const auto& segs = map.segments;
+  shared_endpoint.assign(2 * segs.size(), -1);
+  auto point = [&](int code) -> const Eigen::Vector3d& {
+    return code % 2 == 0 ? segs[code / 2].p0_world : segs[code / 2].p1_world;
+  };
+  for (int code = 0; code < static_cast<int>(shared_endpoint.size()); ++code)
+    for (int earlier = 0; earlier < code - code % 2; ++earlier)
+      if (point(earlier) == point(code))
+      {
+        shared_endpoint[code] = earlier;
+        break;
+      }
+}
+
 void TrackingGeometry::project(const Pose& pose, bool update_visibility, std::vector<ProjectedSegment>& out) const
 {
   const double w = width, h = height;
+  const bool shared = shared_endpoint.size() == 2 * map.segments.size();
+  // An endpoint's camera point, from the earlier segment sharing it when there is one; its
+  // pixel likewise when that segment was in front (then its pixels were computed).
+  auto endpoint = [&](int code, const Eigen::Vector3d& world, Eigen::Vector3d& pc, Eigen::Vector2d& px) {
+    const int from = shared ? shared_endpoint[code] : -1;
+    if (from < 0)
+    {
+      pc = pose.toCamera(world);
+      return false;
+    }
+    const ProjectedSegment& o = out[from / 2];
+    pc = from % 2 == 0 ? o.pc0 : o.pc1;
+    if (!o.in_front)
+      return false;
+    px = from % 2 == 0 ? o.a : o.b;
+    return true;
+  };
   for (size_t i = 0; i < map.segments.size(); ++i)
   {
     ProjectedSegment& s = out[i];
-    const Eigen::Vector3d pc0 = pose.toCamera(map.segments[i].p0_world);
-    const Eigen::Vector3d pc1 = pose.toCamera(map.segments[i].p1_world);
-    s.in_front = pc0.z() > min_depth_m && pc1.z() > min_depth_m;
+    Eigen::Vector2d a, b;
+    const bool have_a = endpoint(static_cast<int>(2 * i), map.segments[i].p0_world, s.pc0, a);
+    const bool have_b = endpoint(static_cast<int>(2 * i + 1), map.segments[i].p1_world, s.pc1, b);
+    s.in_front = s.pc0.z() > min_depth_m && s.pc1.z() > min_depth_m;
     if (!s.in_front)
     {
       s.visible = false;
       s.visible_length = 0;
       continue;
     }
-    s.set(k.project(pc0), k.project(pc1));
+    s.set(have_a ? a : k.project(s.pc0), have_b ? b : k.project(s.pc1));
     if (update_visibility)
     {
       s.visible_length = clippedLength(s.a, s.b, -0.5, -0.5, w - 0.5, h - 0.5);

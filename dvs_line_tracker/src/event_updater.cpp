@@ -27,7 +27,7 @@ int EventUpdater::start(EstimatorState& state, const Pose& pose)
   state.pose = pose;
   state.damping = params_.estimator.damping;
   state.x_accumulated.setZero();
-  geometry_.project(state.pose, true, state.projected);
+  project(state, true);
   dark_side_.restart(state.projected);
   int visible = 0;
   for (size_t i = 0; i < state.projected.size(); ++i)
@@ -111,12 +111,27 @@ void EventUpdater::noteSolve()
   solve_due_ns_ = std::max(solve_due_ns_, rate_clock_ns_) + period_ns;
 }
 
+void EventUpdater::project(EstimatorState& state, bool update_visibility) const
+{
+  geometry_.project(state.pose, update_visibility, state.projected);
+  state.projected_at = state.pose;
+}
+
 void EventUpdater::relinearize(EstimatorState& state, int i) const
 {
   SegmentNormalEquations& eq = state.equations[i];
-  const MapSegment& seg = geometry_.map.segments[i];
-  eq.active = state.projected[i].visible &&
-              linearizeSegment(geometry_.k, state.pose, seg.p0_world, seg.p1_world, state.buffers[i], eq);
+  const ProjectedSegment& s = state.projected[i];
+  if (!s.visible)
+    eq.active = false;
+  else if (state.projected_at.R_camera_world == state.pose.R_camera_world &&
+           state.projected_at.t_camera_world == state.pose.t_camera_world)
+    // The projection is of this pose (a visible segment is in front: its pixels are set).
+    eq.active = linearizeSegment(geometry_.k, s.pc0, s.pc1, s.a, s.b, state.buffers[i], eq);
+  else
+  {
+    const MapSegment& seg = geometry_.map.segments[i];
+    eq.active = linearizeSegment(geometry_.k, state.pose, seg.p0_world, seg.p1_world, state.buffers[i], eq);
+  }
   eq.x_lin = state.x_accumulated;
 }
 
@@ -183,7 +198,7 @@ void EventUpdater::step(EstimatorState& state, const int* changed, int num_chang
         break;
       state.pose.applyCameraIncrement(delta);
       state.x_accumulated += delta;
-      geometry_.project(state.pose, false, state.projected);
+      project(state, false);
       if (delta.squaredNorm() < 1e-16)
         break;
     }
@@ -194,7 +209,7 @@ void EventUpdater::step(EstimatorState& state, const int* changed, int num_chang
     updates_since_normalize_ = 0;
   }
   // Visibility (clipping) is refreshed by refresh(); per event only the projection.
-  geometry_.project(state.pose, false, state.projected);
+  project(state, false);
 }
 
 void EventUpdater::expireStaleEvents(EstimatorState& state, int i) const
@@ -205,7 +220,7 @@ void EventUpdater::expireStaleEvents(EstimatorState& state, int i) const
 
 void EventUpdater::refresh(EstimatorState& state)
 {
-  geometry_.project(state.pose, true, state.projected);
+  project(state, true);
   dark_side_.updateInsides(state.projected);
   // Segments that moved without producing events (e.g. an edge leaving the view) would keep
   // their stale events: drop them here too, not only when the segment receives an event.

@@ -41,6 +41,7 @@ TrackingGeometry makeGeometry(const dvs_calibration::CameraModel& camera, const 
 {
   TrackingGeometry g;
   g.map = map;
+  g.indexSharedEndpoints();
   const auto& in = camera.intrinsics();
   g.k.fx = in.fx;
   g.k.fy = in.fy;

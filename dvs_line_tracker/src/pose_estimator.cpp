@@ -16,6 +16,16 @@ void projectAlongNormal(const PinholeK& k, const Eigen::Vector3d& p, const Eigen
 bool linearizeSegment(const PinholeK& k, const Pose& pose, const Eigen::Vector3d& p0_world,
                       const Eigen::Vector3d& p1_world, const SegmentBuffer& buffer, SegmentNormalEquations& out)
 {
+  const Eigen::Vector3d pc0 = pose.toCamera(p0_world), pc1 = pose.toCamera(p1_world);
+  const bool front = pc0.z() >= 1e-3 && pc1.z() >= 1e-3;
+  return linearizeSegment(k, pc0, pc1, front ? k.project(pc0) : Eigen::Vector2d::Zero(),
+                          front ? k.project(pc1) : Eigen::Vector2d::Zero(), buffer, out);
+}
+
+bool linearizeSegment(const PinholeK& k, const Eigen::Vector3d& pc0, const Eigen::Vector3d& pc1,
+                      const Eigen::Vector2d& a, const Eigen::Vector2d& b, const SegmentBuffer& buffer,
+                      SegmentNormalEquations& out)
+{
   out.num_points = buffer.size();
   // Zeroed only when nothing is linearised: on success every entry is written below.
   auto none = [&out] {
@@ -24,10 +34,8 @@ bool linearizeSegment(const PinholeK& k, const Pose& pose, const Eigen::Vector3d
     out.sum_sq = 0;
     return false;
   };
-  const Eigen::Vector3d pc0 = pose.toCamera(p0_world), pc1 = pose.toCamera(p1_world);
   if (pc0.z() < 1e-3 || pc1.z() < 1e-3)
     return none();
-  const Eigen::Vector2d a = k.project(pc0), b = k.project(pc1);
   const Eigen::Vector2d e = b - a;
   const double len = e.norm();
   if (len < 1e-6 || buffer.size() < 2)

@@ -8,6 +8,7 @@
 #include <dvs_line_tracker/tracker_params.h>
 
 #include <gtest/gtest.h>
+#include <algorithm>
 #include <memory>
 
 #include <random>
@@ -190,6 +191,87 @@ TEST(EventUpdater, StartsSeedsAndUpdatesOnAttributedEventsOnly)
                                          state.projected[3].a);
   EXPECT_FALSE(updater.update(state, centre, true, 0.0, 0));
   EXPECT_EQ(positionError(after, state.pose), 0.0);
+}
+
+TEST(TrackingGeometry, SharedCornersProjectAsEverySegmentAlone)
+{
+  // The square's sides share their corners: each corner is transformed and projected once, and
+  // every projected field is exactly what projecting each segment on its own gives, also when
+  // corners lie behind the camera or out of the image.
+  TrackingGeometry shared = dvs128Geometry();
+  shared.indexSharedEndpoints();
+  const TrackingGeometry alone = dvs128Geometry();
+  ASSERT_EQ(shared.shared_endpoint.size(), 2 * shared.map.segments.size());
+  EXPECT_EQ(std::count_if(shared.shared_endpoint.begin(), shared.shared_endpoint.end(), [](int c) { return c >= 0; }), 4);
+  EXPECT_TRUE(alone.shared_endpoint.empty());
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-1, 1);
+  int partly_behind = 0;
+  for (int trial = 0; trial < 200; ++trial)
+  {
+    // From in front, beside, and (some) with the map's plane through the camera.
+    const Eigen::Vector3d eye(0.8 * u(rng), 0.8 * u(rng), trial % 4 == 0 ? 0.3 * u(rng) : 0.4 + 2 * std::abs(u(rng)));
+    const Pose pose = lookAt(eye, {0.6 * u(rng), 0.6 * u(rng), 0}, {0, 1, 0}, u(rng));
+    std::vector<ProjectedSegment> a(shared.map.segments.size()), b(shared.map.segments.size());
+    for (const bool visibility : {true, false})
+    {
+      shared.project(pose, visibility, a);
+      alone.project(pose, visibility, b);
+      for (size_t i = 0; i < a.size(); ++i)
+      {
+        SCOPED_TRACE("trial " + std::to_string(trial) + " segment " + std::to_string(i));
+        ASSERT_EQ(a[i].pc0, b[i].pc0);
+        ASSERT_EQ(a[i].pc1, b[i].pc1);
+        ASSERT_EQ(a[i].in_front, b[i].in_front);
+        ASSERT_EQ(a[i].visible, b[i].visible);
+        ASSERT_EQ(a[i].visible_length, b[i].visible_length);
+        if (!a[i].in_front)
+          continue;
+        ASSERT_EQ(a[i].a, b[i].a);
+        ASSERT_EQ(a[i].b, b[i].b);
+        ASSERT_EQ(a[i].normal, b[i].normal);
+        ASSERT_EQ(a[i].length, b[i].length);
+      }
+    }
+    partly_behind += std::any_of(a.begin(), a.end(), [](const ProjectedSegment& s) { return !s.in_front; }) &&
+                     std::any_of(a.begin(), a.end(), [](const ProjectedSegment& s) { return s.in_front; });
+  }
+  EXPECT_GT(partly_behind, 0);  // the case where a shared corner's pixel must not be reused
+}
+
+TEST(EventUpdater, LinearisesAtAPoseMovedWithoutProjection)
+{
+  // The IMU propagator moves the pose without projecting the map: the next solve must linearise
+  // at the moved pose (the projection it would otherwise reuse is of the pose before).
+  TrackingGeometry g = dvs128Geometry();
+  g.indexSharedEndpoints();
+  LineTrackerParams params;
+  params.estimator.extra_relinearizations = 0;
+  EstimatorState state;
+  state.resize(g.map.segments.size(), params.buffer_size);
+  EventUpdater updater(g, params);
+  ASSERT_EQ(updater.start(state, kFront), 4);
+  Vector6d nudge;
+  nudge << 0.01, -0.02, 0.015, 0.02, 0.01, -0.03;
+  state.pose.applyCameraIncrement(nudge);
+  const Pose moved = state.pose;
+  const ProjectedSegment s = state.projected[1];
+  ASSERT_TRUE(updater.update(state, 0.5 * (s.a + s.b) + 0.3 * s.normal, true, 0.0, 1000));
+  ASSERT_EQ(updater.solves(), 1u);
+  SegmentNormalEquations expected;
+  ASSERT_TRUE(linearizeSegment(g.k, moved, g.map.segments[1].p0_world, g.map.segments[1].p1_world,
+                               state.buffers[1], expected));
+  EXPECT_EQ(state.equations[1].H, expected.H);
+  EXPECT_EQ(state.equations[1].g, expected.g);
+  // And at the pose of its projection, the cached projection gives the same equations.
+  SegmentNormalEquations cached;
+  const ProjectedSegment& now = state.projected[1];
+  ASSERT_EQ(state.projected_at.R_camera_world, state.pose.R_camera_world);
+  ASSERT_TRUE(linearizeSegment(g.k, now.pc0, now.pc1, now.a, now.b, state.buffers[1], cached));
+  ASSERT_TRUE(linearizeSegment(g.k, state.pose, g.map.segments[1].p0_world, g.map.segments[1].p1_world,
+                               state.buffers[1], expected));
+  EXPECT_EQ(cached.H, expected.H);
+  EXPECT_EQ(cached.g, expected.g);
 }
 
 TEST(EventUpdater, SolvesEveryEventBelowTheSolveRateAndAtTheRateAbove)

@@ -28,6 +28,7 @@
 //
 // Per event: five bytes of state per pixel and one multiplication (the pixel's intensity is kept
 // rather than its log level: no exp per event); nothing allocates.
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -76,8 +77,10 @@ public:
     float& intensity = intensities_[i];
     if (new_run && (intensity < 0 || (polarity ? intensity <= low_step_ : intensity >= high_step_)))
       intensity = static_cast<float>(polarity ? exp_low_ : exp_high_);
+    // std::min / std::max, not fmin / fmax: the same for these finite values, and inlined (fmin
+    // and fmax were two library calls per event).
     intensity = static_cast<float>(
-        std::fmin(exp_high_, std::fmax(exp_low_, intensity * (polarity ? step_up_ : step_down_))));
+        std::min(exp_high_, std::max(exp_low_, intensity * (polarity ? step_up_ : step_down_))));
     return offsetAtIntensity(intensity);
   }
 

@@ -22,10 +22,17 @@ struct TrackingGeometry
   double ideal_radius_px = 0;  ///< largest distance of an undistorted sensor pixel from the image centre
   double min_depth_m = 0.05;            ///< closer map points count as behind the camera
   double min_visible_length_px = 12.0;  ///< shorter visible parts do not count as visible
+  /// Per segment, per endpoint (2 i + 0: p0, 2 i + 1: p1): the same map point as an endpoint of an
+  /// earlier segment, coded the same way, or -1 (a polygon's sides share their corners). Empty:
+  /// none shared. Filled by indexSharedEndpoints().
+  std::vector<int> shared_endpoint;
 
-  /// Project every map segment at `pose` into `out` (sized like the map). With
-  /// `update_visibility`, also clip to the image (visible_length, visible); otherwise only the
-  /// projection is refreshed (the per-event path).
+  /// Fill shared_endpoint from the map (call after setting `map`).
+  void indexSharedEndpoints();
+  /// Project every map segment at `pose` into `out` (sized like the map); a corner shared by
+  /// several segments is transformed and projected once. With `update_visibility`, also clip to
+  /// the image (visible_length, visible); otherwise only the projection is refreshed (the
+  /// per-event path).
   void project(const Pose& pose, bool update_visibility, std::vector<ProjectedSegment>& out) const;
   /// Length (px) of the projected segment `s` inside the image; its clipped endpoints into
   /// `a`, `b` when not empty.
@@ -36,7 +43,8 @@ struct EstimatorState
 {
   Pose pose;                                       ///< T_world_camera, the estimate
   Vector6d x_accumulated = Vector6d::Zero();       ///< sum of the increments applied (linearisation reference)
-  std::vector<ProjectedSegment> projected;         ///< map segments at `pose`
+  std::vector<ProjectedSegment> projected;         ///< map segments at `projected_at`
+  Pose projected_at;                               ///< the pose `projected` was computed at (the IMU moves `pose` without projecting)
   std::vector<SegmentBuffer> buffers;              ///< per segment: its recent events
   std::vector<SegmentNormalEquations> equations;   ///< per segment: its normal equations
   double damping = 0;                              ///< in force (normal or partial view)

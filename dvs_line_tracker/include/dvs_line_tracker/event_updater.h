@@ -47,6 +47,8 @@ public:
   uint64_t factorizations() const { return factorizations_; }
 
 private:
+  /// Project the map at state.pose (projected, projected_at).
+  void project(EstimatorState& state, bool update_visibility) const;
   void relinearize(EstimatorState& state, int i) const;
   void step(EstimatorState& state, const int* changed, int num_changed);
   void expireStaleEvents(EstimatorState& state, int i) const;

@@ -54,6 +54,11 @@ void projectAlongNormal(const PinholeK& k, const Eigen::Vector3d& p_cam, const E
 /// false when the segment is behind the camera, degenerate, or has fewer than 2 points.
 bool linearizeSegment(const PinholeK& k, const Pose& pose, const Eigen::Vector3d& p0_world,
                       const Eigen::Vector3d& p1_world, const SegmentBuffer& buffer, SegmentNormalEquations& out);
+/// The same from the segment's endpoints already in the camera frame (`pc0`, `pc1`) and their
+/// pixels (`a`, `b`: k.project of them, needed only when both lie in front).
+bool linearizeSegment(const PinholeK& k, const Eigen::Vector3d& pc0, const Eigen::Vector3d& pc1,
+                      const Eigen::Vector2d& a, const Eigen::Vector2d& b, const SegmentBuffer& buffer,
+                      SegmentNormalEquations& out);
 
 /// Solve the damped normal equations of the active segments at the accumulated increment
 /// `x_now`. Returns false when there is nothing to solve.

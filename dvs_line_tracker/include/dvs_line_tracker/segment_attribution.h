@@ -14,7 +14,9 @@ namespace dvs_line_tracker
 /// A map segment projected into the ideal (undistorted) image.
 struct ProjectedSegment
 {
-  Eigen::Vector2d a = Eigen::Vector2d::Zero();  ///< projection of the map segment's p0
+  Eigen::Vector3d pc0 = Eigen::Vector3d::Zero();  ///< the map segment's p0 in the camera frame
+  Eigen::Vector3d pc1 = Eigen::Vector3d::Zero();  ///< and its p1
+  Eigen::Vector2d a = Eigen::Vector2d::Zero();  ///< projection of the map segment's p0 (when in front)
   Eigen::Vector2d b = Eigen::Vector2d::Zero();  ///< projection of p1
   Eigen::Vector2d dir = Eigen::Vector2d::UnitX();  ///< unit vector a -> b
   Eigen::Vector2d normal = Eigen::Vector2d::UnitY();  ///< dir rotated by +90 deg
@@ -326,6 +328,8 @@ private:
     const int n = size_;
     if (n == 0)
       return oldest_;
+    // (Not dx * x + dy * y - c with the constants folded: its rounding differs, and pixel-grid
+    // events are often exactly as far on either side of a new one, where the rounding picks.)
     for (int i = 0; i < n; ++i)
       distance[i] = std::abs(dx * (xs[i] - ax) + dy * (ys[i] - ay) - along_new);
     const double best = Eigen::Map<const Eigen::ArrayXd>(distance, n).minCoeff();
