@@ -4,6 +4,12 @@
 
 namespace dvs_line_tracker
 {
+namespace
+{
+/// Segment endpoints closer to the camera plane (or behind it) are not linearised.
+constexpr double kMinLinearizationDepth = 1e-3;
+}  // namespace
+
 void projectAlongNormal(const PinholeK& k, const Eigen::Vector3d& p, const Eigen::Vector2d& n, Vector6d& row)
 {
   // q = n^T d(px)/d(p_cam); d(p_cam)/d(w, v) = [-[p]x  I], so n^T J = (p x q, q).
@@ -17,7 +23,7 @@ bool linearizeSegment(const PinholeK& k, const Pose& pose, const Eigen::Vector3d
                       const Eigen::Vector3d& p1_world, const SegmentBuffer& buffer, SegmentNormalEquations& out)
 {
   const Eigen::Vector3d pc0 = pose.toCamera(p0_world), pc1 = pose.toCamera(p1_world);
-  const bool front = pc0.z() >= 1e-3 && pc1.z() >= 1e-3;
+  const bool front = pc0.z() >= kMinLinearizationDepth && pc1.z() >= kMinLinearizationDepth;
   return linearizeSegment(k, pc0, pc1, front ? k.project(pc0) : Eigen::Vector2d::Zero(),
                           front ? k.project(pc1) : Eigen::Vector2d::Zero(), buffer, out);
 }
@@ -34,7 +40,7 @@ bool linearizeSegment(const PinholeK& k, const Eigen::Vector3d& pc0, const Eigen
     out.sum_sq = 0;
     return false;
   };
-  if (pc0.z() < 1e-3 || pc1.z() < 1e-3)
+  if (pc0.z() < kMinLinearizationDepth || pc1.z() < kMinLinearizationDepth)
     return none();
   const Eigen::Vector2d e = b - a;
   const double len = e.norm();

@@ -34,7 +34,7 @@ if command -v setpriv >/dev/null 2>&1 && [ "$(id -u)" -eq 0 ] &&
   check unprivileged_falls_back_with_a_note $? "$(echo "$out" | tr '\n<>"&' ' ')"
 fi
 "$exe" 10 sh -c 'exit 3' 2>/dev/null; [ $? -eq 3 ]; check exit_code_passed_through $? "exit code"
-for bad in abc 100 -1 ""; do
+for bad in abc 100 -1 "" 99999999999999999999; do
   out=$("$exe" "$bad" true 2>&1); rc=$?
   [ $rc -eq 2 ] && echo "$out" | grep -q "realtime_priority must be an integer in \[0, 99\]"
   check "refuses_priority_'$bad'" $? "rc $rc: $out"

@@ -109,10 +109,10 @@ public:
     kProgressive,  ///< most votes first; a found segment's points stop voting for the rest
     kEveryBin,     ///< every candidate bin (the full Hough, thesis Fig. 4.2)
     /// Every candidate bin that has no fewer votes than its two radius neighbours at the same
-    /// angle (radiusPeak): the peaks across a line's radius. An edge that moved while the window filled is a
-    /// band of events several bins wide at its angle; the full Hough fitted a line to every bin
-    /// across the band (about 130 distinct lines per detection on the DVS128 flip), the peaks
-    /// fit one or two of them (BENCHMARKS.md, twenty-fourth session).
+    /// angle (radiusPeak): the peaks across a line's radius. An edge that moved while the window
+    /// filled is a band of events several bins wide at its angle; the full Hough fitted a line to
+    /// every bin across the band (about 130 distinct lines per detection on the DVS128 flip), the
+    /// peaks fit one or two of them (BENCHMARKS.md, twenty-fourth session).
     kRadiusPeaks
   };
 
