@@ -149,7 +149,7 @@ HoughLineDetector::HoughLineDetector(int width, int height, const HoughParams& p
   , width_(width)
   , height_(height)
   , activity_(std::max(width, 1), std::max(height, 1), std::max(params.neighbour_filter_events, 1),
-              std::max(params.neighbour_filter_min, 1))
+              std::max(params.neighbour_filter_min, 1), params.neighbour_same_polarity)
 {
   if (width <= 0 || height <= 0)
     throw std::invalid_argument("HoughLineDetector: image size must be positive");
@@ -235,7 +235,7 @@ void HoughLineDetector::expireBefore(int64_t t_ns)
     --evidence_count_;
 }
 
-bool HoughLineDetector::addEvent(float x_ideal, float y_ideal, int sx, int sy, int64_t t_ns)
+bool HoughLineDetector::addEvent(float x_ideal, float y_ideal, int sx, int sy, int64_t t_ns, bool on)
 {
   // Every event, voted or not, moves the age limit on (a pause in the events then empties the
   // window when they resume).
@@ -244,7 +244,7 @@ bool HoughLineDetector::addEvent(float x_ideal, float y_ideal, int sx, int sy, i
   // Every event on the sensor counts towards the neighbours' activity; the filter needs its
   // neighbours to have fired shortly before (events without a sensor pixel are not filtered).
   const bool on_sensor = sx >= 0 && sy >= 0 && sx < width_ && sy < height_;
-  const bool supported = activity_.add(sx, sy);
+  const bool supported = activity_.add(sx, sy, on);
   if (params_.neighbour_filter && on_sensor && !supported)
     return false;
   const int32_t pixel = on_sensor ? sy * width_ + sx : -1;

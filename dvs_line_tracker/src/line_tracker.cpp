@@ -80,7 +80,7 @@ LineTracker::LineTracker(const dvs_calibration::CameraModel& camera, const LineM
   , edge_model_(camera.width(), camera.height(), edgeModelParams(params_))
   , initializer_(geometry_, params_)
   , updater_(geometry_, params_)
-  , monitor_(params_, camera.width(), camera.height(), initializer_.houghParams().neighbour_filter_events)
+  , monitor_(params_, camera.width(), camera.height(), initializer_.scaledNeighbourHorizon(params_.loss_neighbour_events))
 {
   estimator_.resize(map.segments.size(), params_.buffer_size);
   if (params_.init_catch_up)

@@ -145,6 +145,8 @@ TrackerInitializer::TrackerInitializer(const TrackingGeometry& geometry, const L
       side_counts_.push_back(static_cast<int>(poly.segment_ids.size()));
 }
 
+int TrackerInitializer::scaledNeighbourHorizon(int events_128) const { return scaled(events_128, scale_ * scale_); }
+
 void TrackerInitializer::restart()
 {
   recent_.clear();
@@ -202,7 +204,7 @@ bool TrackerInitializer::tryPrior(const StartTracking& start)
 bool TrackerInitializer::addEvent(const Eigen::Vector2d& p, const dvs_driver::Event& e, const StartTracking& start)
 {
   ++stats_.events;
-  if (!hough_.addEvent(static_cast<float>(p.x()), static_cast<float>(p.y()), e.x, e.y, e.t_ns))
+  if (!hough_.addEvent(static_cast<float>(p.x()), static_cast<float>(p.y()), e.x, e.y, e.t_ns, e.polarity != 0))
     return false;
   ++stats_.events_voted;
   ++voted_since_check_;

@@ -40,6 +40,9 @@ dvs_driver::ParamTable trackerParamTable(LineTrackerParams& p, std::string& solv
   t.add("init_neighbour_filter_events", p.hough.neighbour_filter_events, "events", 1, 10000000,
         "'shortly before': among this many latest events");
   t.add("init_neighbour_filter_min", p.hough.neighbour_filter_min, "pixels", 1, 8, "neighbours that must have fired");
+  t.add("init_neighbour_same_polarity", p.hough.neighbour_same_polarity,
+        "only neighbours whose latest event had the event's polarity count (slow scenes in heavy background "
+        "activity; with init_neighbour_filter_events 1500, see the tracker's BENCHMARKS.md)");
   t.add("init_scale_with_sensor", p.init_scale_with_sensor,
         "event counts and gaps of the initialisation are for 128x128; scaled by sqrt(pixels)/128 on larger sensors "
         "(the neighbour filter's horizon by pixels/128^2)");
@@ -119,6 +122,9 @@ dvs_driver::ParamTable trackerParamTable(LineTrackerParams& p, std::string& solv
   t.add("min_attributed_ratio", p.min_attributed_ratio, "", 0, 1, "attributed / all events below this: lost");
   t.add("min_unattributed_structure", p.min_unattributed_structure, "", 0, 1,
         "... and at least this share of the rest next to each other (structure, not noise): lost");
+  t.add("loss_neighbour_events", p.loss_neighbour_events, "events", 1, 10000000,
+        "'next to each other': two of the 8 neighbours fired among this many latest events (scaled by pixels as "
+        "init_neighbour_filter_events)");
   t.add("attribution_drop_ratio", p.attribution_drop_ratio, "", 0, 1,
         "attributed share below this fraction of the track's level (>= 50 %), half the rest structure, residual >= 0.4 px: lost (0: off)");
   positive("min_depth", p.min_depth_m, "m", kInf, "map points closer (or behind): lost");

@@ -5,6 +5,7 @@
 #include <dvs_line_tracker/event_updater.h>
 #include <dvs_line_tracker/line_tracker.h>
 #include <dvs_line_tracker/loss_monitor.h>
+#include <dvs_line_tracker/tracker_initializer.h>
 #include <dvs_line_tracker/tracker_params.h>
 
 #include <gtest/gtest.h>
@@ -191,6 +192,24 @@ TEST(EventUpdater, StartsSeedsAndUpdatesOnAttributedEventsOnly)
                                          state.projected[3].a);
   EXPECT_FALSE(updater.update(state, centre, true, 0.0, 0));
   EXPECT_EQ(positionError(after, state.pose), 0.0);
+}
+
+TEST(TrackerInitializer, NeighbourHorizonsScaleByPixelsAndStayApart)
+{
+  // Horizons are given for 128x128 and scale by the pixel count (the same events per pixel);
+  // the loss monitor's is its own: widening the Hough filter's leaves it alone.
+  TrackingGeometry g = dvs128Geometry();
+  g.width = 640;
+  g.height = 480;
+  LineTrackerParams params;
+  params.hough.neighbour_filter_events = 1500;
+  params.hough.neighbour_same_polarity = true;
+  const TrackerInitializer init(g, params);
+  EXPECT_EQ(init.houghParams().neighbour_filter_events, 28125);  // 1500 * 640 * 480 / 128^2
+  EXPECT_TRUE(init.houghParams().neighbour_same_polarity);
+  EXPECT_EQ(init.scaledNeighbourHorizon(params.loss_neighbour_events), 9375);
+  params.init_scale_with_sensor = false;
+  EXPECT_EQ(TrackerInitializer(g, params).scaledNeighbourHorizon(500), 500);
 }
 
 TEST(TrackingGeometry, SharedCornersProjectAsEverySegmentAlone)

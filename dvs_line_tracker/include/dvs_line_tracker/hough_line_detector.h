@@ -34,6 +34,7 @@ struct HoughParams
   bool neighbour_filter = true;         ///< vote only for events with 8-neighbour events shortly before
   int neighbour_filter_min = 2;         ///< how many of the 8 neighbours must have fired
   int neighbour_filter_events = 500;    ///< "shortly before" = among the last this many events (adapts to the event rate)
+  bool neighbour_same_polarity = false; ///< only neighbours of the event's polarity count (slow, noisy scenes; see BENCHMARKS.md)
   int max_candidates = 150;             ///< candidates examined per detection, most votes first
   int max_segments = 40;                ///< longest segments kept per detection
   int evidence_events = 0;              ///< voted positions kept for validation beyond the window (0: the window)
@@ -84,7 +85,7 @@ public:
   void reset();
   /// One event: `x_ideal`, `y_ideal` its undistorted position, `sx`, `sy` its sensor pixel
   /// (for the neighbour filter), `t_ns` its time. Returns true when it was voted.
-  bool addEvent(float x_ideal, float y_ideal, int sx, int sy, int64_t t_ns);
+  bool addEvent(float x_ideal, float y_ideal, int sx, int sy, int64_t t_ns, bool on = false);
 
   int numAngleBins() const { return num_theta_; }
   int numRadiusBins() const { return num_r_; }

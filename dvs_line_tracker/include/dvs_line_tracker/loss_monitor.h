@@ -28,8 +28,8 @@ class LossMonitor
 {
 public:
   /// The sensor's size and the horizon of the neighbour test (neighbour_activity.h) that tells
-  /// structure from noise among the events not attributed: the Hough filter's horizon (its
-  /// events per pixel on the sensor). A size of 0 x 0: no chance level and no noise test (the
+  /// structure from noise among the events not attributed (loss_neighbour_events, scaled to the
+  /// sensor). A size of 0 x 0: no chance level and no noise test (the
   /// attribution check is the fixed ratio only).
   LossMonitor(const LineTrackerParams& params, int width, int height, int horizon_events);
 

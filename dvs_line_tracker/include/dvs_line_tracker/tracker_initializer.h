@@ -83,6 +83,9 @@ public:
   const InitializerStats& stats() const { return stats_; }
   /// The Hough detector's parameters, scaled to the sensor (init_scale_with_sensor).
   const HoughParams& houghParams() const { return hough_.params(); }
+  /// A neighbour-test horizon given for a 128x128 sensor, scaled to this one as the Hough
+  /// filter's (init_scale_with_sensor: by the pixel count).
+  int scaledNeighbourHorizon(int events_128) const;
   /// Time (ns) of the oldest event the initial pose was refined on (init_refine_events of the
   /// Hough window; the whole window without refinement): the pose fits the events since.
   int64_t refineWindowStartNs() const { return hough_.timeOfLatest(refine_events_ > 0 ? refine_events_ : hough_.numWindowEvents()); }

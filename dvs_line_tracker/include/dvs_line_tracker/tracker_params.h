@@ -123,6 +123,10 @@ struct LineTrackerParams
   /// are structure: next to two others of them (neighbour_activity.h; pure noise gives ~2.2 %,
   /// the edges of a scene the pose does not explain 40-90 %).
   double min_unattributed_structure = 0.1;
+  /// The horizon of that neighbour test, in events for a 128x128 sensor (scaled by pixels as the
+  /// initialisation's filter horizon; its own so that widening the Hough filter's horizon for
+  /// slow, noisy scenes does not make the loss test call noise structure).
+  int loss_neighbour_events = 500;
   /// A check attributing less than this fraction of the track's own level (a running mean, at
   /// least 50 %) is a loss when at least half of the rest is structure and the buffers' mean
   /// residual is >= 0.4 px (a slip after an occlusion; 0: off).
