@@ -107,7 +107,9 @@ std::string InitializerStats::noPoseReason() const
   if (attempts == 0 || events_voted * 10 < events)
     return voted + " and " + std::to_string(attempts) +
            " detection attempts ran: most events are isolated (noise) and the map's edges fire too sparsely to "
-           "stand out (slow motion, low contrast or a far target: move the camera, or come closer)";
+           "stand out (slow motion, low contrast or a far target: move the camera, or come closer; in heavy background "
+           "activity the parameters init_neighbour_same_polarity: true and init_neighbour_filter_events: 1500 start "
+           "more such scenes)";
   std::string why;
   if (polygons == 0)
     why = "no image polygon with the map's side counts among the " + std::to_string(segments) +

@@ -703,6 +703,7 @@ TEST(LineTracker, NoPoseOnIsolatedNoiseSaysTheEventsDoNotPassTheNeighbourFilter)
   const std::string why = is.noPoseReason();
   EXPECT_EQ(why.find(std::to_string(is.events_voted) + " of 20000 events"), 0u) << why;
   EXPECT_NE(why.find("isolated (noise)"), std::string::npos) << why;
+  EXPECT_NE(why.find("init_neighbour_same_polarity: true"), std::string::npos) << why;
   EXPECT_NE(is.json().find("\"events_voted\": " + std::to_string(is.events_voted)), std::string::npos) << is.json();
 }
 
