@@ -7,21 +7,26 @@ namespace dvs_line_tracker
 {
 namespace
 {
-constexpr double kCostAlpha = 0.2;  // running mean of the cost over ~5 packets
+// The cost is the time over the events of about the latest kCostHorizonEvents tracked events
+// (each packet weighted by its events): a packet of a few events delayed by the scheduler
+// (0.4 ms for 10 events, 44 us each, where 0.4 us is usual) moved a per-packet running mean
+// tenfold, and the stride to 40 for the next packets (a lost track in tracker_overload.test).
+constexpr double kCostHorizonEvents = 5000;
 }
 
-int OverloadGovernor::strideFor(size_t queued_events, bool whole_packets)
+int OverloadGovernor::strideFor(size_t queued_events, bool initialising)
 {
   int stride = 1;
-  if (params_.max_latency_s > 0 && seconds_per_event_ > 0)
+  const double cost = initialising ? seconds_per_event_initialising_ : seconds_per_event_;
+  if (params_.max_latency_s > 0 && cost > 0)
   {
     // Tracking every k-th of the queued events takes queued * cost / k.
-    const double needed = std::ceil(static_cast<double>(queued_events) * seconds_per_event_ / params_.max_latency_s);
+    const double needed = std::ceil(static_cast<double>(queued_events) * cost / params_.max_latency_s);
     stride = static_cast<int>(std::min<double>(std::max(needed, 1.0), params_.max_stride));
   }
   stats_.last_stride = stride;
   stats_.max_stride_used = std::max(stats_.max_stride_used, stride);
-  if (stride > 1 && !whole_packets)
+  if (stride > 1 && !initialising)
     ++stats_.packets_strided;
   return stride;
 }
@@ -35,11 +40,14 @@ bool OverloadGovernor::skipWholePacket(int stride, size_t events)
   return true;
 }
 
-void OverloadGovernor::tracked(size_t tracked, double seconds)
+void OverloadGovernor::tracked(size_t tracked, double seconds, bool initialising)
 {
   if (tracked == 0 || !(seconds >= 0))
     return;
-  const double cost = seconds / static_cast<double>(tracked);
-  seconds_per_event_ = seconds_per_event_ > 0 ? seconds_per_event_ + kCostAlpha * (cost - seconds_per_event_) : cost;
+  Cost& c = initialising ? initialising_ : tracking_;
+  const double keep = kCostHorizonEvents / (kCostHorizonEvents + static_cast<double>(tracked));
+  c.seconds = keep * c.seconds + seconds;
+  c.events = keep * c.events + static_cast<double>(tracked);
+  (initialising ? seconds_per_event_initialising_ : seconds_per_event_) = c.seconds / c.events;
 }
 }  // namespace dvs_line_tracker

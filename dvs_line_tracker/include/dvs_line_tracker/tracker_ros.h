@@ -53,7 +53,8 @@ private:
   bool nextPacket(PendingPacket& packet);
   /// Track every `stride`-th event of the packet; returns the events given to the tracker.
   /// `start`: when the tracking thread took the packet (the latency's queue and processing).
-  size_t processPacket(const PendingPacket& packet, int stride, ros::WallTime start);
+  /// `event_loop_s` receives the wall time of the loop over the events (what a stride shortens).
+  size_t processPacket(const PendingPacket& packet, int stride, ros::WallTime start, double* event_loop_s = nullptr);
   void onOutputTimer(const ros::TimerEvent& ev);
   /// ~odometry at t_ns (the IMU filter predicted to it, or the vision's pose); nothing before tracking.
   void publishOdometry(int64_t t_ns);
