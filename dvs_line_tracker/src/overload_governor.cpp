@@ -17,7 +17,7 @@ constexpr double kCostHorizonEvents = 5000;
 int OverloadGovernor::strideFor(size_t queued_events, bool initialising)
 {
   int stride = 1;
-  const double cost = initialising ? seconds_per_event_initialising_ : seconds_per_event_;
+  const double cost = (initialising ? initialising_ : tracking_).perEvent();
   if (params_.max_latency_s > 0 && cost > 0)
   {
     // Tracking every k-th of the queued events takes queued * cost / k.
@@ -48,6 +48,5 @@ void OverloadGovernor::tracked(size_t tracked, double seconds, bool initialising
   const double keep = kCostHorizonEvents / (kCostHorizonEvents + static_cast<double>(tracked));
   c.seconds = keep * c.seconds + seconds;
   c.events = keep * c.events + static_cast<double>(tracked);
-  (initialising ? seconds_per_event_initialising_ : seconds_per_event_) = c.seconds / c.events;
 }
 }  // namespace dvs_line_tracker

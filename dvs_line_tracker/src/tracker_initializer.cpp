@@ -61,6 +61,10 @@ double sensorScale(const TrackingGeometry& g, const LineTrackerParams& p)
 
 int scaled(int count, double scale) { return std::max(1, static_cast<int>(std::lround(count * scale))); }
 
+/// A neighbour test's horizon given for 128x128, at sensor scale `s`: by the pixel count (the
+/// same events per pixel on every sensor).
+int scaledHorizon(int events_128, double s) { return scaled(events_128, s * s); }
+
 HoughParams scaledHough(const TrackingGeometry& g, const LineTrackerParams& p)
 {
   const double s = sensorScale(g, p);
@@ -72,7 +76,7 @@ HoughParams scaledHough(const TrackingGeometry& g, const LineTrackerParams& p)
   // pixel squared, kept at the 128x128 sensor's (with sqrt(pixels) scaling a 640x480 sensor's
   // horizon held 4.3x fewer events per pixel, shorter than the time a slow edge takes to cross
   // neighbouring pixels, and the filter rejected the edges too).
-  h.neighbour_filter_events = scaled(h.neighbour_filter_events, s * s);
+  h.neighbour_filter_events = scaledHorizon(h.neighbour_filter_events, s);
   h.max_gap_px *= s;
   h.evidence_events = static_cast<int>(std::lround(h.window_events * p.init_evidence_windows));
   return h;
@@ -147,7 +151,7 @@ TrackerInitializer::TrackerInitializer(const TrackingGeometry& geometry, const L
       side_counts_.push_back(static_cast<int>(poly.segment_ids.size()));
 }
 
-int TrackerInitializer::scaledNeighbourHorizon(int events_128) const { return scaled(events_128, scale_ * scale_); }
+int TrackerInitializer::scaledNeighbourHorizon(int events_128) const { return scaledHorizon(events_128, scale_); }
 
 void TrackerInitializer::restart()
 {

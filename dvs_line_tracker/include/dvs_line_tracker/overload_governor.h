@@ -63,9 +63,9 @@ public:
   bool overQueueLimit(size_t queued_events) const { return queued_events > params_.max_queued_events; }
   /// Wall seconds per tracked event while tracking (over about the latest 5,000 tracked events;
   /// 0 before the first measurement).
-  double secondsPerEvent() const { return seconds_per_event_; }
+  double secondsPerEvent() const { return tracking_.perEvent(); }
   /// The same while initialising.
-  double secondsPerEventInitialising() const { return seconds_per_event_initialising_; }
+  double secondsPerEventInitialising() const { return initialising_.perEvent(); }
   const OverloadStats& stats() const { return stats_; }
   const OverloadParams& params() const { return params_; }
 
@@ -76,9 +76,9 @@ private:
   struct Cost
   {
     double seconds = 0, events = 0;
+    double perEvent() const { return events > 0 ? seconds / events : 0.0; }
   };
   Cost tracking_, initialising_;
-  double seconds_per_event_ = 0, seconds_per_event_initialising_ = 0;
   uint64_t packet_phase_ = 0;  ///< which packets skipWholePacket takes
 };
 }  // namespace dvs_line_tracker
