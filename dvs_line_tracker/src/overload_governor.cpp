@@ -36,6 +36,7 @@ bool OverloadGovernor::skipWholePacket(int stride, size_t events)
   if (stride <= 1 || packet_phase_++ % static_cast<uint64_t>(stride) == 0)
     return false;
   ++stats_.packets_skipped;
+  stats_.events_skipped_whole += events;
   skipped(events);
   return true;
 }

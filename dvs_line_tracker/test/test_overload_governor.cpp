@@ -117,6 +117,7 @@ TEST(OverloadGovernor, WhileInitialisingEveryStrideThPacketIsTakenWhole)
   EXPECT_EQ(taken, 10);
   EXPECT_EQ(g.stats().packets_skipped, 20u);
   EXPECT_EQ(g.stats().events_skipped, 2000u);  // counted with the events a stride leaves out
+  EXPECT_EQ(g.stats().events_skipped_whole, 2000u);
   // A packet taken or skipped whole does not count as tracked with a stride.
   OverloadParams p;
   p.max_latency_s = 0.01;
@@ -130,6 +131,7 @@ TEST(OverloadGovernor, WhileInitialisingEveryStrideThPacketIsTakenWhole)
   EXPECT_TRUE(s.skipWholePacket(10, 1000));
   EXPECT_EQ(s.stats().packets_strided, 0u);
   EXPECT_EQ(s.stats().packets_skipped, 1u);
+  EXPECT_EQ(s.stats().events_skipped_whole, 1000u);
   ASSERT_EQ(s.strideFor(100000), 10);  // tracked with the stride: counted
   EXPECT_EQ(s.stats().packets_strided, 1u);
   // The first packet at a stride is taken (a single packet is never lost).

@@ -23,6 +23,7 @@ struct OverloadStats
   uint64_t events_skipped = 0;   ///< not tracked because of a stride > 1
   uint64_t packets_strided = 0;  ///< packets tracked with a stride > 1
   uint64_t packets_skipped = 0;  ///< skipped whole while initialising (their events are in events_skipped)
+  uint64_t events_skipped_whole = 0;  ///< the events of those packets (no pose, no latency counted)
   uint64_t packets_dropped = 0;  ///< dropped unprocessed: the queue exceeded max_queued_events
   uint64_t events_dropped = 0;
   int last_stride = 1;

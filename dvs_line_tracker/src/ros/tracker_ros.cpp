@@ -607,6 +607,7 @@ void TrackerRos::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat)
   stat.add("overload: events skipped", o.events_skipped);
   stat.add("overload: packets tracked with a stride", o.packets_strided);
   stat.add("overload: packets skipped whole while initialising", o.packets_skipped);
+  stat.add("overload: events in packets skipped whole", o.events_skipped_whole);
   stat.add("overload: packets dropped (max_queued_events)", o.packets_dropped);
   stat.add("overload: events dropped", o.events_dropped);
   if (o.events_skipped > skipped_at_diag_ || o.events_dropped > dropped_at_diag_)
