@@ -181,7 +181,7 @@ bool LineTracker::processEvent(const dvs_driver::Event& e)
   if (monitor_.due())
   {
     updater_.refresh(estimator_);
-    const std::string reason = monitor_.check(estimator_);
+    const std::string reason = monitor_.check(estimator_, e.t_ns);
     if (!reason.empty())
       declareLost(reason);
   }

@@ -1,6 +1,7 @@
 #include <dvs_line_tracker/loss_monitor.h>
 
 #include <algorithm>
+#include <cmath>
 
 namespace dvs_line_tracker
 {
@@ -21,6 +22,20 @@ double meanResidualPx(const EstimatorState& state)
   return count > 0 ? sum / count : 0.0;
 }
 
+bool holdsACorner(const EstimatorState& state)
+{
+  // Two lines in view at kCornerMinAngleDeg or more to each other (parallel ones leave the
+  // motion along them free).
+  static const double min_sin = std::sin(kCornerMinAngleDeg * M_PI / 180.0);
+  for (size_t i = 0; i < state.projected.size(); ++i)
+    for (size_t j = i + 1; state.projected[i].visible && j < state.projected.size(); ++j)
+      if (state.projected[j].visible &&
+          std::abs(state.projected[i].dir.x() * state.projected[j].dir.y() -
+                   state.projected[i].dir.y() * state.projected[j].dir.x()) >= min_sin)
+        return true;
+  return false;
+}
+
 LossMonitor::LossMonitor(const LineTrackerParams& params, int width, int height, int horizon_events)
   : params_(params), image_area_px_(static_cast<double>(std::max(width, 0)) * std::max(height, 0))
 {
@@ -28,7 +43,7 @@ LossMonitor::LossMonitor(const LineTrackerParams& params, int width, int height,
     activity_ = std::make_unique<NeighbourActivity>(width, height, std::max(horizon_events, 1), 2);
 }
 
-std::string LossMonitor::check(const EstimatorState& state)
+std::string LossMonitor::check(const EstimatorState& state, int64_t t_ns)
 {
   const double ratio = events_ > 0 ? static_cast<double>(attributed_) / events_ : 1.0;
   const uint64_t unattributed = events_ - attributed_;
@@ -40,8 +55,17 @@ std::string LossMonitor::check(const EstimatorState& state)
     if (!s.in_front)
       return "part of the map is behind the camera";
   const int visible = state.visibleSegments();
-  if (visible < params_.min_visible_segments)
-    return "segments left the view (" + std::to_string(visible) + " visible)";
+  if (visible >= params_.min_visible_segments)
+    too_few_since_ns_ = kNever;
+  else
+  {
+    // Two lines still hold four of the six degrees of freedom, the damping the rest for a
+    // moment: a brief partial view (partial_view_grace_s) does not cost the track.
+    if (too_few_since_ns_ == kNever)
+      too_few_since_ns_ = t_ns;
+    if (!holdsACorner(state) || t_ns - too_few_since_ns_ >= std::llround(params_.partial_view_grace_s * 1e9))
+      return "segments left the view (" + std::to_string(visible) + " visible)";
+  }
   const double residual = meanResidualPx(state);
   if (residual > params_.max_mean_residual_px)
     return "residuals grew (mean " + std::to_string(residual) + " px)";

@@ -495,6 +495,50 @@ TEST_F(LossMonitorTest, NamesWhyTheTrackIsLost)
   EXPECT_EQ(monitor.check(state), "the pose is not finite");
 }
 
+// partial_view_grace_s: two sides meeting at a corner may be all that is in view for that long
+// (event time); parallel sides, one side, or longer: lost. The default (0) loses at once.
+TEST_F(LossMonitorTest, ABriefPartialViewOnACornerIsNoLoss)
+{
+  const int n = params.quality_check_interval;
+  const auto check = [&](LossMonitor& m, double t_s) {
+    countEvents(m, n, n, true);
+    return m.check(state, std::llround(t_s * 1e9));
+  };
+  const auto showOnly = [&](std::initializer_list<int> sides) {
+    for (size_t i = 0; i < state.projected.size(); ++i)
+      state.projected[i].visible = std::find(sides.begin(), sides.end(), static_cast<int>(i)) != sides.end();
+  };
+  ASSERT_EQ(state.projected.size(), 4u);  // the square's sides in order: 0 and 1 meet, 0 and 2 are parallel
+  LossMonitor at_once(params, 0, 0, 500);
+  showOnly({0, 1});
+  EXPECT_EQ(check(at_once, 1.0), "segments left the view (2 visible)");
+
+  params.partial_view_grace_s = 0.05;
+  LossMonitor monitor(params, 0, 0, 500);
+  EXPECT_EQ(check(monitor, 1.0), "");
+  EXPECT_EQ(check(monitor, 1.049), "");
+  EXPECT_EQ(check(monitor, 1.05), "segments left the view (2 visible)");
+  // Enough in view again: the next partial view has its own grace.
+  monitor.restart();
+  showOnly({0, 1, 2, 3});
+  EXPECT_EQ(check(monitor, 2.0), "");
+  showOnly({1, 2});
+  EXPECT_EQ(check(monitor, 2.01), "");
+  showOnly({0, 1, 2});
+  EXPECT_EQ(check(monitor, 2.02), "");
+  showOnly({2, 3});
+  EXPECT_EQ(check(monitor, 2.06), "");
+  EXPECT_EQ(check(monitor, 2.1), "");
+  EXPECT_EQ(check(monitor, 2.11), "segments left the view (2 visible)");
+  // Parallel sides or one side: lost at once.
+  monitor.restart();
+  showOnly({0, 2});
+  EXPECT_EQ(check(monitor, 3.0), "segments left the view (2 visible)");
+  monitor.restart();
+  showOnly({3});
+  EXPECT_EQ(check(monitor, 4.0), "segments left the view (1 visible)");
+}
+
 TEST_F(LossMonitorTest, AttributionIsComparedWithChanceOnLargeNoisySensors)
 {
   // The same square and pose, counted against a 640x480 image: its attribution bands cover a

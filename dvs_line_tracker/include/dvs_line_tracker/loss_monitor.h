@@ -23,6 +23,10 @@ namespace dvs_line_tracker
 {
 /// Mean |point-to-line| distance (px) over all buffered points of visible segments.
 double meanResidualPx(const EstimatorState& state);
+/// Two visible segments meet at kCornerMinAngleDeg or more (the corner a brief partial view
+/// tracks on, partial_view_grace_s).
+constexpr double kCornerMinAngleDeg = 30.0;
+bool holdsACorner(const EstimatorState& state);
 
 class LossMonitor
 {
@@ -45,8 +49,9 @@ public:
   /// A check is due (every quality_check_interval events).
   bool due() const { return events_ >= static_cast<uint64_t>(params_.quality_check_interval); }
   /// "" while the track is good, else why it is lost. Starts the next interval. Expects the
-  /// state's visibility refreshed (EventUpdater::refresh).
-  std::string check(const EstimatorState& state);
+  /// state's visibility refreshed (EventUpdater::refresh). `t_ns`: the event time of the check
+  /// (how long too few segments have been in view, partial_view_grace_s).
+  std::string check(const EstimatorState& state, int64_t t_ns = 0);
   /// A new interval.
   void reset() { events_ = attributed_ = structured_ = 0; }
   /// A new track: a new interval, and the track's attribution level forgotten.
@@ -54,6 +59,7 @@ public:
   {
     reset();
     reference_ratio_ = -1;
+    too_few_since_ns_ = kNever;
   }
 
 private:
@@ -65,6 +71,9 @@ private:
   /// passed, quick to rise and slow to fall (a slip that drifts over many checks stays below it:
   /// -1 before the first check).
   double reference_ratio_ = -1;
+  /// Since when fewer than min_visible_segments are in view (kNever: enough are).
+  static constexpr int64_t kNever = INT64_MIN;
+  int64_t too_few_since_ns_ = kNever;
   static constexpr double kReferenceRise = 0.1, kReferenceFall = 0.01;
   /// The attribution drop (attribution_drop_ratio) counts for tracks whose level is at least
   /// this (with less, a check's share varies too much: noisy large sensors), when at least this

@@ -117,6 +117,10 @@ struct LineTrackerParams
   int quality_check_interval = 512;  ///< events between quality checks while tracking
   int min_visible_segments = 3;      ///< fewer visible (>= min_visible_length_px inside the image) -> lost
   double min_visible_length_px = 12.0;
+  /// Fewer than min_visible_segments visible, but two meeting at a corner, for up to this long (event
+  /// time): still tracking, on the lines in view (a corner of the map briefly alone in view, as
+  /// in a fast flip); 0: lost at once.
+  double partial_view_grace_s = 0.0;
   double max_mean_residual_px = 1.5; ///< mean |point-to-line| distance over the buffers above this -> lost
   double min_attributed_ratio = 0.02;///< attributed / all events in a check interval below this -> lost
   /// ... and no more than 1.5x chance, and at least this share of the events not attributed
