@@ -173,19 +173,32 @@ bool LineTracker::processEvent(const dvs_driver::Event& e)
   }
   const bool updated = updater_.update(estimator_, p, e.polarity, edge_offset, e.t_ns);
   monitor_.countEvent(updated, e.x, e.y);
-  if (updated)
-  {
-    ++stats_.events_attributed;
-    ++stats_.pose_updates;
-  }
   if (monitor_.due())
   {
     updater_.refresh(estimator_);
+    const bool was_held = monitor_.partialViewHeld();
     const std::string reason = monitor_.check(estimator_, e.t_ns);
+    if (!was_held && monitor_.partialViewHeld())
+      held_pose_ = estimator_.pose;
     if (!reason.empty())
+    {
+      // A partial view that outlasted partial_view_grace_s: the pose before it is the prior
+      // (the estimate drifted in the directions two lines leave free).
+      if (was_held)
+        estimator_.pose = held_pose_;
       declareLost(reason);
+    }
   }
-  return updated && status_ == TrackerState::kTracking;
+  // While only a corner is in view (partial_view_grace_s) the estimate goes on but reports no
+  // pose: it resumes when a third side comes back, or the track is lost when none does.
+  const bool held = status_ == TrackerState::kTracking && monitor_.partialViewHeld();
+  if (updated)
+  {
+    ++stats_.events_attributed;
+    if (!held)
+      ++stats_.pose_updates;
+  }
+  return updated && status_ == TrackerState::kTracking && !held;
 }
 
 void LineTracker::catchUp(int64_t since_ns)

@@ -119,7 +119,7 @@ dvs_driver::ParamTable trackerParamTable(LineTrackerParams& p, std::string& solv
   t.add("min_visible_segments", p.min_visible_segments, "", 2, 1000, "fewer visible segments: lost (6-DoF needs 3 lines)");
   t.add("min_visible_length_px", p.min_visible_length_px, "px", 0, kInf, "a segment is visible with this much inside the image");
   t.add("partial_view_grace_s", p.partial_view_grace_s, "s", 0, 10,
-        "fewer than min_visible_segments visible, but two meeting at a corner (>= 30 deg), for up to this long: still tracking (0: lost at once)");
+        "fewer than min_visible_segments visible, but two meeting at a corner (>= 30 deg), for up to this long: held, no pose reported, until a third side is back (0: lost at once)");
   positive("max_mean_residual_px", p.max_mean_residual_px, "px", kInf, "mean residual above this: lost");
   t.add("min_attributed_ratio", p.min_attributed_ratio, "", 0, 1, "attributed / all events below this: lost");
   t.add("min_unattributed_structure", p.min_unattributed_structure, "", 0, 1,

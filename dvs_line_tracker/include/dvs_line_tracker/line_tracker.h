@@ -114,6 +114,7 @@ private:
   TrackerInitializer initializer_;
   EventUpdater updater_;
   LossMonitor monitor_;
+  Pose held_pose_;  ///< the pose when a partial view began (partial_view_grace_s)
   std::shared_ptr<StatePropagator> propagator_;
 
   TrackerState status_ = TrackerState::kInitializing;

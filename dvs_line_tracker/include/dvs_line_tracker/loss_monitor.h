@@ -52,6 +52,8 @@ public:
   /// state's visibility refreshed (EventUpdater::refresh). `t_ns`: the event time of the check
   /// (how long too few segments have been in view, partial_view_grace_s).
   std::string check(const EstimatorState& state, int64_t t_ns = 0);
+  /// Fewer than min_visible_segments are in view, and the track is held (partial_view_grace_s).
+  bool partialViewHeld() const { return too_few_since_ns_ != kNever; }
   /// A new interval.
   void reset() { events_ = attributed_ = structured_ = 0; }
   /// A new track: a new interval, and the track's attribution level forgotten.

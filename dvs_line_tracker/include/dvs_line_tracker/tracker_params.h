@@ -118,8 +118,9 @@ struct LineTrackerParams
   int min_visible_segments = 3;      ///< fewer visible (>= min_visible_length_px inside the image) -> lost
   double min_visible_length_px = 12.0;
   /// Fewer than min_visible_segments visible, but two meeting at a corner, for up to this long (event
-  /// time): still tracking, on the lines in view (a corner of the map briefly alone in view, as
-  /// in a fast flip); 0: lost at once.
+  /// time): the track is held (the estimate goes on, no pose is reported) and resumes when a third
+  /// side comes back (a corner of the map briefly alone in view, as in a fast flip); lost after
+  /// it, from the pose before the partial view. 0: lost at once.
   double partial_view_grace_s = 0.0;
   double max_mean_residual_px = 1.5; ///< mean |point-to-line| distance over the buffers above this -> lost
   double min_attributed_ratio = 0.02;///< attributed / all events in a check interval below this -> lost
