@@ -63,7 +63,7 @@ std::string LossMonitor::check(const EstimatorState& state, int64_t t_ns)
     // moment: a brief partial view (partial_view_grace_s) does not cost the track.
     if (too_few_since_ns_ == kNever)
       too_few_since_ns_ = t_ns;
-    if (!holdsACorner(state) || t_ns - too_few_since_ns_ >= std::llround(params_.partial_view_grace_s * 1e9))
+    if (t_ns - too_few_since_ns_ >= std::llround(params_.partial_view_grace_s * 1e9) || !holdsACorner(state))
       return "segments left the view (" + std::to_string(visible) + " visible)";
   }
   const double residual = meanResidualPx(state);

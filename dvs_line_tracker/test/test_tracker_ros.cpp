@@ -66,18 +66,29 @@ unsigned long long diagnosticCount(const diagnostic_msgs::DiagnosticStatus& s, c
   return 0;
 }
 
+/// A latency summary ("p50 / p99 / max = a / b / c ms (n)", latency_histogram.h); false when it
+/// is not one.
+bool parseLatency(const std::string& v, double& p50, double& p99, double& max, unsigned long long& n)
+{
+  return std::sscanf(v.c_str(), "p50 / p99 / max = %lf / %lf / %lf ms (%llu)", &p50, &p99, &max, &n) == 4;
+}
+
+/// The events the overload governor left out whole (packets skipped while initialising, or dropped).
+unsigned long long eventsLeftOut(const diagnostic_msgs::DiagnosticStatus& s)
+{
+  return diagnosticCount(s, "overload: events in packets skipped whole") + diagnosticCount(s, "overload: events dropped");
+}
+
 /// The events a diagnostics message accounts for: those in the latency split's total, and those
-/// the overload governor left out whole (skipped while initialising, or dropped).
+/// the overload governor left out.
 unsigned long long eventsAccountedFor(const diagnostic_msgs::DiagnosticStatus& s)
 {
   unsigned long long n = 0;
   double p50, p99, max;
   for (const auto& kv : s.values)
-    if (kv.key == "latency: total, event -> pose published" &&
-        std::sscanf(kv.value.c_str(), "p50 / p99 / max = %lf / %lf / %lf ms (%llu)", &p50, &p99, &max, &n) != 4)
+    if (kv.key == "latency: total, event -> pose published" && !parseLatency(kv.value, p50, p99, max, n))
       n = 0;
-  return n + diagnosticCount(s, "overload: events in packets skipped whole") +
-         diagnosticCount(s, "overload: events dropped");
+  return n + eventsLeftOut(s);
 }
 }  // namespace
 
@@ -274,8 +285,7 @@ TEST(TrackerRos, TracksASimulatedBag)
 
   // The latency split (latency_split.h): the events counted in the total and in each part, the
   // packets stamped on the wall clock (the clock matches the events), p50 <= p99 <= max.
-  const unsigned long long left_out = diagnosticCount(last, "overload: events in packets skipped whole") +
-                                      diagnosticCount(last, "overload: events dropped");
+  const unsigned long long left_out = eventsLeftOut(last);
   EXPECT_LE(left_out, sim.events.size() / 20) << "the tracker left out more than 5 % of the events";
   std::map<std::string, std::string> latency;
   for (const auto& kv : rx.diagnostics.back().values)
@@ -289,8 +299,7 @@ TEST(TrackerRos, TracksASimulatedBag)
     const std::string v = latency[std::string("latency: ") + part];
     double p50 = -1, p99 = -1, max = -1;
     unsigned long long n = 0;
-    ASSERT_EQ(std::sscanf(v.c_str(), "p50 / p99 / max = %lf / %lf / %lf ms (%llu)", &p50, &p99, &max, &n), 4)
-        << part << ": " << v;
+    ASSERT_TRUE(parseLatency(v, p50, p99, max, n)) << part << ": " << v;
     // every event once, but those the overload governor left out (and said so)
     EXPECT_EQ(n + left_out, sim.events.size()) << part << ": " << v;
     EXPECT_LE(0.0, p50) << part;

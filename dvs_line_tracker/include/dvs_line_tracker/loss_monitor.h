@@ -2,6 +2,8 @@
 // Tracking-quality monitoring: every `quality_check_interval` events while tracking, the
 // estimate is checked (finite, the map in front of the camera, enough visible segments, small
 // residuals, attribution not collapsed); the first failed check is the reason the track is lost.
+// Too few visible segments may be held for partial_view_grace_s when two of them meet at a
+// corner (partialViewHeld(): the tracker then reports no pose).
 // Attribution has collapsed when fewer than `min_attributed_ratio` of the events were attributed,
 // no more than 1.5x what chance gives (background events land in the attribution bands of the
 // visible segments in proportion to the bands' share of the image, so on a large, noisy sensor
