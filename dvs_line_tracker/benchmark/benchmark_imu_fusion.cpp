@@ -37,6 +37,29 @@ namespace
 constexpr double kDeg = 180.0 / M_PI;
 std::FILE* g_trace = nullptr;  ///< --trace
 
+/// The summary of the first poses after the blackout: median (worst) in cm / deg over the runs
+/// tracking then, and how many were not (kNotTracking stands for those in the lists).
+constexpr double kNotTracking = 1e9;
+std::string afterBlackout(const std::vector<double>& position_m, const std::vector<double>& orientation_rad)
+{
+  std::vector<double> p, r;
+  for (size_t i = 0; i < position_m.size(); ++i)
+    if (position_m[i] < kNotTracking)
+    {
+      p.push_back(position_m[i]);
+      r.push_back(orientation_rad[i]);
+    }
+  const size_t lost = position_m.size() - p.size();
+  if (p.empty())
+    return "not tracking in any run";
+  char buf[160];
+  std::snprintf(buf, sizeof(buf), "%.2f (%.2f) cm / %.2f (%.2f) deg", 100 * median(p), 100 * maxOf(p),
+                median(r) * kDeg, maxOf(r) * kDeg);
+  return lost ? std::string(buf) + ", not tracking in " + std::to_string(lost) + " of " +
+                    std::to_string(position_m.size()) + " runs"
+              : std::string(buf);
+}
+
 FlipRunResult run(const FlipScene& s, const LineTrackerParams& params, bool use_imu, double blackout_start,
                   double blackout_s)
 {
@@ -136,8 +159,8 @@ int main(int argc, char** argv)
       rms_vis.push_back(v.all.rms_position_m);
       rms_imu.push_back(m.all.rms_position_m);
       change.push_back(ch);
-      end_p.push_back(mb.after_gap_position_m < 0 ? 1e9 : mb.after_gap_position_m);
-      end_r.push_back(mb.after_gap_orientation_rad < 0 ? 1e9 : mb.after_gap_orientation_rad);
+      end_p.push_back(mb.after_gap_position_m < 0 ? kNotTracking : mb.after_gap_position_m);
+      end_r.push_back(mb.after_gap_orientation_rad < 0 ? kNotTracking : mb.after_gap_orientation_rad);
       in1.push_back(m.inside1 / n);
       in3.push_back(m.inside3 / n);
       in1r.push_back(m.inside1_rot / n);
@@ -167,12 +190,11 @@ int main(int argc, char** argv)
       std::fflush(stdout);
     }
     std::printf("| **%.1f m: median (worst)** | | %.2f (%.2f) | %.2f (%.2f) | %+.0f %% (%+.0f %%) | %llu losses in all | "
-                "%llu losses in all | %.2f (%.2f) cm / %.2f (%.2f) deg | | %.0f / %.1f %% | %.0f / %.1f %% | %.0f / %.1f %% | "
+                "%llu losses in all | %s | | %.0f / %.1f %% | %.0f / %.1f %% | %.0f / %.1f %% | "
                 "%.0f / %.1f %% | |\n",
                 d, 100 * median(rms_vis), 100 * maxOf(rms_vis), 100 * median(rms_imu), 100 * maxOf(rms_imu),
                 100 * median(change), 100 * maxOf(change), static_cast<unsigned long long>(vis_losses),
-                static_cast<unsigned long long>(imu_losses), 100 * median(end_p), 100 * maxOf(end_p),
-                median(end_r) * kDeg, maxOf(end_r) * kDeg, 100 * median(in1), 100 * median(in3), 100 * median(in1r),
+                static_cast<unsigned long long>(imu_losses), afterBlackout(end_p, end_r).c_str(), 100 * median(in1), 100 * median(in3), 100 * median(in1r),
                 100 * median(in3r), 100 * median(vin1), 100 * median(vin3), 100 * median(vin1r), 100 * median(vin3r));
   }
   return 0;

@@ -57,11 +57,16 @@ int EventUpdater::start(EstimatorState& state, const Pose& pose)
 }
 
 bool EventUpdater::update(EstimatorState& state, const Eigen::Vector2d& p, bool polarity, double edge_offset,
-                          int64_t t_ns)
+                          int64_t t_ns, int* attributed_to)
 {
   int segs[2];
   const int n =
       attributeEvent(p, state.projected.data(), static_cast<int>(state.projected.size()), params_.attribution, segs);
+  if (attributed_to)
+  {
+    attributed_to[0] = n > 0 ? segs[0] : -1;
+    attributed_to[1] = n > 1 ? segs[1] : -1;
+  }
   if (n == 0)
     return false;
   for (int i = 0; i < n; ++i)

@@ -70,6 +70,14 @@ EdgeRunModelParams edgeModelParams(const LineTrackerParams& p)
   m.constant_offset_px = p.edge_offset_px;
   return m;
 }
+
+std::vector<std::vector<int>> polygonSegments(const LineMap& map)
+{
+  std::vector<std::vector<int>> out;
+  for (const auto& poly : map.polygons)
+    out.push_back(poly.segment_ids);
+  return out;
+}
 }  // namespace
 
 LineTracker::LineTracker(const dvs_calibration::CameraModel& camera, const LineMap& map,
@@ -80,7 +88,8 @@ LineTracker::LineTracker(const dvs_calibration::CameraModel& camera, const LineM
   , edge_model_(camera.width(), camera.height(), edgeModelParams(params_))
   , initializer_(geometry_, params_)
   , updater_(geometry_, params_)
-  , monitor_(params_, camera.width(), camera.height(), initializer_.scaledNeighbourHorizon(params_.loss_neighbour_events))
+  , monitor_(params_, camera.width(), camera.height(), initializer_.scaledNeighbourHorizon(params_.loss_neighbour_events),
+             static_cast<int>(map.segments.size()), polygonSegments(geometry_.map))
 {
   estimator_.resize(map.segments.size(), params_.buffer_size);
   if (params_.init_catch_up)
@@ -171,8 +180,9 @@ bool LineTracker::processEvent(const dvs_driver::Event& e)
       return false;
     }
   }
-  const bool updated = updater_.update(estimator_, p, e.polarity, edge_offset, e.t_ns);
-  monitor_.countEvent(updated, e.x, e.y);
+  int attributed_to[2];
+  const bool updated = updater_.update(estimator_, p, e.polarity, edge_offset, e.t_ns, attributed_to);
+  monitor_.countEvent(updated, e.x, e.y, attributed_to, &p, &estimator_.projected);
   if (monitor_.due())
   {
     updater_.refresh(estimator_);

@@ -36,8 +36,11 @@ bool holdsACorner(const EstimatorState& state)
   return false;
 }
 
-LossMonitor::LossMonitor(const LineTrackerParams& params, int width, int height, int horizon_events)
-  : params_(params), image_area_px_(static_cast<double>(std::max(width, 0)) * std::max(height, 0))
+LossMonitor::LossMonitor(const LineTrackerParams& params, int width, int height, int horizon_events,
+                         int num_segments, const std::vector<std::vector<int>>& polygons)
+  : params_(params)
+  , image_area_px_(static_cast<double>(std::max(width, 0)) * std::max(height, 0))
+  , silent_sides_(num_segments, polygons, params.loss_silent_side_ratio)
 {
   if (width > 0 && height > 0)
     activity_ = std::make_unique<NeighbourActivity>(width, height, std::max(horizon_events, 1), 2);
@@ -69,6 +72,9 @@ std::string LossMonitor::check(const EstimatorState& state, int64_t t_ns)
   const double residual = meanResidualPx(state);
   if (residual > params_.max_mean_residual_px)
     return "residuals grew (mean " + std::to_string(residual) + " px)";
+  const std::string silent = silent_sides_.check(state.projected, t_ns);
+  if (!silent.empty())
+    return silent;
   // Chance level: the share of the image within the attribution distance of a visible segment.
   double band_px = 0;
   for (const auto& seg : state.projected)

@@ -28,8 +28,10 @@ public:
   /// One event at ideal pixel `p` and time `t_ns` (after start()): attribute it, buffer it
   /// (moved by `edge_offset` towards the bright side), update the pose (once per
   /// solve_every_events attributed events, and at most max_solve_rate times per second of event
-  /// time). Returns true when it was attributed. Allocates nothing.
-  bool update(EstimatorState& state, const Eigen::Vector2d& p, bool polarity, double edge_offset, int64_t t_ns);
+  /// time). Returns true when it was attributed. Allocates nothing. `attributed_to` (optional,
+  /// two entries): the segments it was attributed to, -1 for none.
+  bool update(EstimatorState& state, const Eigen::Vector2d& p, bool polarity, double edge_offset, int64_t t_ns,
+              int* attributed_to = nullptr);
 
   /// Refresh what the per-event path leaves stale (called at every quality check): clip the
   /// projections to the image (visibility), drop the stale events of every buffer, and choose

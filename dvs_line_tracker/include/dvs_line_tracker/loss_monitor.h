@@ -12,9 +12,13 @@
 // to two others: when the camera pauses, its edges stop firing and only noise is left, which
 // says nothing against the pose; a wrong pose leaves the real edges' events unattributed). A
 // track that slipped also shows as a drop of its attributed share far below its own level
-// (`attribution_drop_ratio`) while the rest is structure and its residuals grew.
+// (`attribution_drop_ratio`) while the rest is structure and its residuals grew. A track on a
+// pose that fits some sides and puts another where no edge is shows as a side that sweeps
+// pixels without events while its edge fires nearby, unexplained (silent_side_check.h,
+// `loss_silent_side_ratio`).
 #include <dvs_line_tracker/estimator_state.h>
 #include <dvs_line_tracker/neighbour_activity.h>
+#include <dvs_line_tracker/silent_side_check.h>
 #include <dvs_line_tracker/tracker_params.h>
 
 #include <cstdint>
@@ -37,16 +41,33 @@ public:
   /// structure from noise among the events not attributed (loss_neighbour_events, scaled to the
   /// sensor). A size of 0 x 0: no chance level and no noise test (the
   /// attribution check is the fixed ratio only).
-  LossMonitor(const LineTrackerParams& params, int width, int height, int horizon_events);
+  /// `polygons`: the map's polygons as segment indices (silent_side_check.h; empty: one group
+  /// of `num_segments`).
+  LossMonitor(const LineTrackerParams& params, int width, int height, int horizon_events, int num_segments = 0,
+              const std::vector<std::vector<int>>& polygons = {});
 
-  /// Count one event at pixel (x, y) processed while tracking.
-  void countEvent(bool attributed, int x, int y)
+  /// Count one event at pixel (x, y) (ideal position `p`) processed while tracking;
+  /// `segments` (optional, two entries, -1 for none): the segments it was attributed to;
+  /// `projected` (optional): the projections of now, for where an unexplained event lies.
+  void countEvent(bool attributed, int x, int y, const int* segments = nullptr, const Eigen::Vector2d* p = nullptr,
+                  const std::vector<ProjectedSegment>* projected = nullptr)
   {
     ++events_;
     if (attributed)
+    {
       ++attributed_;
+      if (segments)
+      {
+        silent_sides_.countAttributed(segments[0]);
+        silent_sides_.countAttributed(segments[1]);
+      }
+    }
     else if (!activity_ || activity_->add(x, y))
+    {
       ++structured_;
+      if (activity_ && p && projected)
+        silent_sides_.countUnexplained(*p, *projected);
+    }
   }
   /// A check is due (every quality_check_interval events).
   bool due() const { return events_ >= static_cast<uint64_t>(params_.quality_check_interval); }
@@ -64,12 +85,14 @@ public:
     reset();
     reference_ratio_ = -1;
     too_few_since_ns_ = kNever;
+    silent_sides_.restart();
   }
 
 private:
   const LineTrackerParams& params_;
   double image_area_px_;
   std::unique_ptr<NeighbourActivity> activity_;  ///< over the unattributed events only
+  SilentSideCheck silent_sides_;
   uint64_t events_ = 0, attributed_ = 0, structured_ = 0;
   /// The track's attribution level: a running mean of the attributed shares of its checks that
   /// passed, quick to rise and slow to fall (a slip that drifts over many checks stays below it:
