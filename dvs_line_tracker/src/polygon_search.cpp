@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <numeric>
 
 namespace dvs_line_tracker
@@ -59,6 +60,7 @@ struct Oriented
 {
   int id;
   Eigen::Vector2d near_end, far_end;
+  int end = 0;  ///< 0: near_end is the segment's p0, 1: its p1
   Eigen::Vector2d dir() const { return (far_end - near_end).normalized(); }
   double length() const { return (far_end - near_end).norm(); }
 };
@@ -79,6 +81,11 @@ public:
     std::iota(order_.begin(), order_.end(), 0);
     std::stable_sort(order_.begin(), order_.end(), [&](int a, int b) { return segs[a].length() > segs[b].length(); });
     used_.assign(segs.size(), false);
+    // The sides that may follow each oriented side, found once per search: the recursion asks
+    // for them at every node (meets() was a third of the initialisation's time in scenes with
+    // many segments).
+    next_sides_.resize(2 * segs.size());
+    next_known_.assign(2 * segs.size(), 0);
   }
 
   /// Search open polygons (n - 1 sides whose outer ends reach the border of the image box).
@@ -90,7 +97,11 @@ public:
   }
 
   /// Corners beyond the border of this image need not lie near the ends of sides that reach it.
-  void setView(const ImageView& view) { view_ = view; }
+  void setView(const ImageView& view)
+  {
+    view_ = view;
+    std::fill(next_known_.begin(), next_known_.end(), 0);  // meets() depends on the view
+  }
 
   /// The segments from index `first_bridge` on are bridges (bridgeBorderSegments): every
   /// polygon uses exactly one of them.
@@ -111,7 +122,7 @@ public:
       for (int end = 0; end < 2 && !isBridge(id); ++end)  // a bridge joins inner ends: never an outer side
       {
         const auto& s = segs_[id];
-        Oriented first{id, end == 0 ? s.p0 : s.p1, end == 0 ? s.p1 : s.p0};
+        Oriented first{id, end == 0 ? s.p0 : s.p1, end == 0 ? s.p1 : s.p0, end};
         chain_.assign(1, first);
         used_[id] = true;
         const bool found = extend(out);
@@ -283,27 +294,11 @@ private:
     }
     const Oriented cur = chain_.back();
     const bool bridge_used = first_bridge_ >= 0 && bridgesInChain() > 0;
-    // Continuations tried closest corner first (a long segment nearby must not win over the
-    // side that really meets this one).
-    std::vector<std::pair<double, Oriented>> next_sides;
-    for (int id : order_)
-    {
-      if (used_[id] || (bridge_used && isBridge(id)))
-        continue;
-      const auto& s = segs_[id];
-      for (int end = 0; end < 2; ++end)
-      {
-        Oriented next{id, end == 0 ? s.p0 : s.p1, end == 0 ? s.p1 : s.p0};
-        Eigen::Vector2d corner;
-        double gap = 0;
-        if (meets(cur, next, &corner, &gap))
-          next_sides.emplace_back(gap, next);
-      }
-    }
-    std::stable_sort(next_sides.begin(), next_sides.end(),
-                     [](const auto& a, const auto& b) { return a.first < b.first; });
+    const std::vector<std::pair<double, Oriented>>& next_sides = nextSides(cur);
     for (const auto& candidate : next_sides)
     {
+      if (used_[candidate.second.id] || (bridge_used && isBridge(candidate.second.id)))
+        continue;
       chain_.push_back(candidate.second);
       used_[candidate.second.id] = true;
       const bool found = extend(out);
@@ -313,6 +308,35 @@ private:
         return true;
     }
     return false;
+  }
+
+  /// Every oriented side that `cur` meets, closest corner first (a long segment nearby must not
+  /// win over the side that really meets this one; ties in the order of order_), whether used
+  /// or not: extend() skips the used ones (filtering after a stable sort keeps the same order).
+  const std::vector<std::pair<double, Oriented>>& nextSides(const Oriented& cur)
+  {
+    const size_t k = static_cast<size_t>(2 * cur.id + cur.end);
+    std::vector<std::pair<double, Oriented>>& next = next_sides_[k];
+    if (next_known_[k])
+      return next;
+    next.clear();
+    for (int id : order_)
+    {
+      if (id == cur.id)
+        continue;
+      const auto& s = segs_[id];
+      for (int end = 0; end < 2; ++end)
+      {
+        Oriented side{id, end == 0 ? s.p0 : s.p1, end == 0 ? s.p1 : s.p0, end};
+        Eigen::Vector2d corner;
+        double gap = 0;
+        if (meets(cur, side, &corner, &gap))
+          next.emplace_back(gap, side);
+      }
+    }
+    std::stable_sort(next.begin(), next.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    next_known_[k] = 1;
+    return next;
   }
 
   const std::vector<ImageSegment>& segs_;
@@ -330,6 +354,8 @@ private:
   ImageView view_;
   std::vector<ImagePolygon>* collect_ = nullptr;
   int max_ = 1;
+  std::vector<std::vector<std::pair<double, Oriented>>> next_sides_;  ///< per oriented side (2 id + end): nextSides()
+  std::vector<char> next_known_;
 };
 }  // namespace
 
