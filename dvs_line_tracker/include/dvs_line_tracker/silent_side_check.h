@@ -58,7 +58,7 @@ public:
   static constexpr double kSnapshotS = 0.01;
   /// A side is judged once it moved this far (px along its normal, net over the span) and its
   /// polygon's density would have drawn at least kMinExpectedEvents to it ...
-  static constexpr double kMinSweepPx = 1.5;
+  static constexpr double kMinSweepPx = 1.0;
   static constexpr double kMinExpectedEvents = 50.0;
   /// ... against a reference side that moved at least kMinReferenceSweepPx and fired at least
   /// kMinReferenceEvents over the span.

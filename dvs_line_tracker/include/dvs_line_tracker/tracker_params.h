@@ -136,7 +136,7 @@ struct LineTrackerParams
   /// least 50 %) is a loss when at least half of the rest is structure and the buffers' mean
   /// residual is >= 0.4 px (a slip after an occlusion; 0: off).
   double attribution_drop_ratio = 0.35;
-  /// A visible side that moved at least 1.5 px across the image (net, over the last 8 snapshots
+  /// A visible side that moved at least 1 px across the image (net, over the last 8 snapshots
   /// of the projections, >= 10 ms apart) with fewer than this fraction of the events its
   /// polygon's densest side fired per swept px^2, while events no side explains arrive near the
   /// polygon (its edge fires elsewhere), judged so for 0.1 s, is a loss: no edge is where the
