@@ -29,6 +29,7 @@ SilentSideCheck::SilentSideCheck(int num_segments, const std::vector<std::vector
   , silent_checks_(num_segments_, 0)
   , silent_since_ns_(num_segments_, 0)
   , ring_(static_cast<size_t>(num_segments_) * kSpanChecks)
+  , snapshot_ns_(kSpanChecks, 0)
   , swept_px2_(num_segments_, 0.0)
   , summed_px2_(num_segments_, 0.0)
   , span_events_(num_segments_, 0.0)
@@ -91,26 +92,29 @@ std::string SilentSideCheck::check(const std::vector<ProjectedSegment>& projecte
   // Each side over the span: from the oldest snapshot (kSpanChecks snapshots ago) to now, when
   // it was in view at both ends.
   const bool full = checks_ == kSpanChecks;
-  const int newest = (full ? head_ + kSpanChecks - 1 : checks_ - 1) % kSpanChecks;
+  const int newest = full ? (head_ + kSpanChecks - 1) % kSpanChecks : checks_ - 1;  // -1: none yet
   for (int i = 0; i < n; ++i)
   {
     // The area swept since the last snapshot, summed (a side out of view sweeps nothing).
-    const Snapshot& last = ring_[static_cast<size_t>(i) * kSpanChecks + newest];
-    if (checks_ > 0 && last.visible && projected[i].visible)
-      swept_[i] += sweptArea(last.projected, projected[i]);
+    if (newest >= 0)
+    {
+      const Snapshot& last = ring_[static_cast<size_t>(i) * kSpanChecks + newest];
+      if (last.projected.visible && projected[i].visible)
+        swept_[i] += sweptArea(last.projected, projected[i]);
+    }
     const Snapshot& old = ring_[static_cast<size_t>(i) * kSpanChecks + head_];
-    span_s_ = (t_ns - old.t_ns) * 1e-9;
-    const bool judged = full && old.visible && projected[i].visible;
+    const bool judged = full && old.projected.visible && projected[i].visible;
     swept_px2_[i] = judged ? sweptArea(old.projected, projected[i]) : 0.0;
     summed_px2_[i] = judged ? swept_[i] - old.swept : 0.0;
     span_events_[i] = judged ? static_cast<double>(events_[i] - old.events) : 0.0;
     span_unexplained_[i] = judged ? static_cast<double>(unexplained_[i] - old.unexplained) : 0.0;
   }
   // The snapshot of now takes the oldest one's place.
+  const double span_s = full ? (t_ns - snapshot_ns_[head_]) * 1e-9 : 0.0;
   const int slot = full ? head_ : checks_;
   for (int i = 0; i < n; ++i)
-    ring_[static_cast<size_t>(i) * kSpanChecks + slot] = {projected[i], events_[i], unexplained_[i], swept_[i], t_ns,
-                                                          projected[i].visible};
+    ring_[static_cast<size_t>(i) * kSpanChecks + slot] = {projected[i], events_[i], unexplained_[i], swept_[i]};
+  snapshot_ns_[slot] = t_ns;
   if (full)
     head_ = (head_ + 1) % kSpanChecks;
   else
@@ -166,7 +170,7 @@ std::string SilentSideCheck::check(const std::vector<ProjectedSegment>& projecte
                       "map segment %d moved %.1f px across the image in %.3f s with %.0f events attributed, %.0f "
                       "expected at its polygon's density (%.2f per px^2), while %.0f events no side explains "
                       "arrived near the polygon, for %.2f s: no edge is where the pose puts it",
-                      i, swept_px2_[i] / std::max(1.0, projected[i].visible_length), span_s_, span_events_[i], expected,
+                      i, swept_px2_[i] / std::max(1.0, projected[i].visible_length), span_s, span_events_[i], expected,
                       density, span_unexplained_[i], (t_ns - silent_since_ns_[i]) * 1e-9);
         return buf;
       }

@@ -74,12 +74,10 @@ public:
 private:
   struct Snapshot
   {
-    ProjectedSegment projected;
-    uint64_t events = 0;       ///< the segment's attributed events counted until then
-    uint64_t unexplained = 0;  ///< unexplained structure near its polygon counted until then
-    double swept = 0;          ///< the area it swept snapshot by snapshot until then (px^2)
-    int64_t t_ns = 0;
-    bool visible = false;
+    ProjectedSegment projected;  ///< (not visible until a snapshot is taken)
+    uint64_t events = 0;         ///< the segment's attributed events counted until then
+    uint64_t unexplained = 0;    ///< unexplained structure near its polygon counted until then
+    double swept = 0;            ///< the area it swept snapshot by snapshot until then (px^2)
   };
   /// Inside polygon `g` scaled by kNearScale about its centre (projections of now).
   bool near(int g, const Eigen::Vector2d& p, const std::vector<ProjectedSegment>& projected) const;
@@ -94,11 +92,11 @@ private:
   std::vector<double> swept_;          ///< area swept snapshot by snapshot per segment since the restart (px^2)
   std::vector<int> silent_checks_;     ///< snapshots in a row the segment was judged silent
   std::vector<int64_t> silent_since_ns_;  ///< since when (the first of those snapshots)
-  std::vector<Snapshot> ring_;  ///< kSpanChecks snapshots per segment (segment-major)
-  int head_ = 0;                ///< the ring's oldest snapshot
-  int checks_ = 0;              ///< snapshots taken since the restart (up to kSpanChecks)
+  std::vector<Snapshot> ring_;         ///< kSpanChecks snapshots per segment (segment-major)
+  std::vector<int64_t> snapshot_ns_;   ///< per ring slot: when its snapshots were taken
+  int head_ = 0;                       ///< the ring's oldest snapshot
+  int checks_ = 0;                     ///< snapshots taken since the restart (up to kSpanChecks)
   int64_t last_snapshot_ns_ = 0;
-  double span_s_ = 0;           ///< event time of the span judged last
   /// Per snapshot: each side's net sweep, summed sweep, events and unexplained structure near
   /// its polygon over the span.
   std::vector<double> swept_px2_, summed_px2_, span_events_, span_unexplained_;
