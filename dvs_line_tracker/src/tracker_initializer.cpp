@@ -24,8 +24,11 @@ constexpr double kOpenMinExplained = 0.5;
 /// by a detection covered init_min_coverage, never starts tracking with weak ones alone.
 constexpr double kWeakCoverageRatio = 0.75;
 
-/// The planar-PnP twin replaces the corners' pose when it explains this much more evidence.
+/// The planar-PnP twin replaces the corners' pose when it explains this much more evidence, or,
+/// explaining about as much (within this factor either way), when its point-to-line RMS on the
+/// refinement events is below kTwinResidualRatio of the corners' pose's.
 constexpr double kTwinMargin = 1.1;
+constexpr double kTwinResidualRatio = 0.99;
 
 /// The coverage test also looks at the strips this many attribution distances beside each side
 /// (init_max_surrounding_coverage).
@@ -436,19 +439,35 @@ TrackerInitializer::Outcome TrackerInitializer::tryPolygon(const ImagePolygon& p
     any_pose = true;
     // The corners' pose, or its planar-PnP twin when that explains clearly more of the
     // recent events (the primary fits the corners best; in a weak-perspective view the two
-    // differ only in evidence beyond the corners, e.g. a second polygon's edges).
+    // differ only in evidence beyond the corners, e.g. a second polygon's edges), or, when both
+    // explain about as much, lies clearly closer to the events (the edges' slight convergence
+    // tells the tilt: a far, nearly frontal square with a corner out of view started 20 deg
+    // tilted the wrong way, its twin, the true pose, 1.5-2 % closer to the events).
     if (refine_events_ > 0)
       candidate.pose = refineWithWindowEvents(candidate.pose, recent);
     Coverage c = sideCoverage(candidate.pose, recent);
+    double residual = -1;  // the candidate's point-to-line RMS, once needed
     for (Pose twin : candidate.alternatives)
     {
       if (refine_events_ > 0)
         twin = refineWithWindowEvents(twin, recent);
       const Coverage ct = sideCoverage(twin, recent);
-      if (valid(ct) && (!valid(c) || ct.covered_px > kTwinMargin * c.covered_px))
+      if (!valid(ct))
+        continue;
+      bool better = !valid(c) || ct.covered_px > kTwinMargin * c.covered_px;
+      double twin_residual = -1;
+      if (!better && ct.covered_px * kTwinMargin >= c.covered_px)
+      {
+        if (residual < 0)
+          residual = refineResidualPx(candidate.pose, recent);
+        twin_residual = refineResidualPx(twin, recent);
+        better = twin_residual < kTwinResidualRatio * residual;
+      }
+      if (better)
       {
         candidate.pose = twin;
         c = ct;
+        residual = twin_residual;
       }
     }
     if (multi_polygon)
@@ -705,10 +724,8 @@ Pose TrackerInitializer::refineWithWindowEvents(const Pose& initial, const Recen
   return pose;
 }
 
-double TrackerInitializer::explainedFraction(const Pose& pose, const RecentEvents& recent) const
+std::vector<ProjectedSegment> TrackerInitializer::projectedMap(const Pose& pose) const
 {
-  if (recent.window.empty())
-    return 0.0;
   std::vector<ProjectedSegment> projected;
   for (const auto& seg : geometry_.map.segments)
   {
@@ -719,6 +736,35 @@ double TrackerInitializer::explainedFraction(const Pose& pose, const RecentEvent
     ps.set(geometry_.k.project(a), geometry_.k.project(b));
     projected.push_back(ps);
   }
+  return projected;
+}
+
+double TrackerInitializer::refineResidualPx(const Pose& pose, const RecentEvents& recent) const
+{
+  const std::vector<ProjectedSegment> projected = projectedMap(pose);
+  const double reach = window_attribution_.max_orthogonal_px;
+  double sum_sq = 0;
+  size_t n = 0;
+  for (const auto& p : recent.refine)
+  {
+    double d = std::numeric_limits<double>::infinity();
+    for (const auto& ps : projected)
+      if (ps.parallelDistance(p) <= 0)
+        d = std::min(d, ps.orthogonalDistance(p));
+    if (d <= reach)
+    {
+      sum_sq += d * d;
+      ++n;
+    }
+  }
+  return n > 0 ? std::sqrt(sum_sq / static_cast<double>(n)) : std::numeric_limits<double>::infinity();
+}
+
+double TrackerInitializer::explainedFraction(const Pose& pose, const RecentEvents& recent) const
+{
+  if (recent.window.empty())
+    return 0.0;
+  const std::vector<ProjectedSegment> projected = projectedMap(pose);
   size_t explained = 0;
   for (const auto& p : recent.window)
     for (const auto& ps : projected)

@@ -60,6 +60,16 @@ TEST(StartAnywhere, FarSteepHandHeld) { expectStartsAndTracks(sweepScene(58)); }
 // Slow on a 640x480 sensor, the square seen 60 deg off its normal from 1.7 m.
 TEST(StartAnywhere, SlowVgaSteep) { expectStartsAndTracks(sweepScene(63)); }
 
+// Far and nearly frontal (640x480, 44 deg, the square 19 % of the image height at 5 m, a corner
+// out of view, slow): the corners' pose and its planar-PnP twin, tilted about 10 deg either side
+// of the view axis, cover the sides about equally. The corners' pose, 20 deg off, was taken and
+// confirmed (a false initialisation, 1.8 m off, tracked for the rest of the run); its twin, the
+// true pose, lies 1.5-2 % closer to the refinement events and is now taken.
+TEST(StartAnywhere, FarFrontalSquareTakesTheTwinCloserToTheEvents)
+{
+  expectStartsAndTracks(sweepScene(147), 0.3, 0.97, 0.03);
+}
+
 // Two identical squares: told apart by the whole map (the wrong one is not taken).
 TEST(StartAnywhere, TwoSquares) { expectStartsAndTracks(sweepScene(31)); }
 

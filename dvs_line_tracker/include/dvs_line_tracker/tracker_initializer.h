@@ -160,6 +160,12 @@ private:
   /// Fraction of the Hough window's events within the attribution distance of a projected map
   /// segment (the evidence `pose` explains, whatever it leaves out).
   double explainedFraction(const Pose& pose, const RecentEvents& recent) const;
+  /// RMS distance (px) of the refinement events within the window's attribution distance of a
+  /// projected map segment (beside it, not beyond its ends) to the nearest such segment;
+  /// infinite when none is.
+  double refineResidualPx(const Pose& pose, const RecentEvents& recent) const;
+  /// The map's segments in front of the camera at `pose`, projected (ideal pixels).
+  std::vector<ProjectedSegment> projectedMap(const Pose& pose) const;
 
   const TrackingGeometry& geometry_;
   const LineTrackerParams& params_;
