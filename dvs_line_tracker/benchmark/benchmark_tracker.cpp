@@ -176,12 +176,14 @@ int main(int argc, char** argv)
   thesis.estimator.huber_px = 1e3;  // plain least squares
   thesis.edge_run_model = false;
   thesis.edge_offset_px = 0;
+  thesis.attribution.max_parallel_px = 10;  // d_par_max
   LineTrackerParams constant_offset = base;  // the default with the constant dark-side offset instead of the run model
   constant_offset.edge_run_model = false;
   LineTrackerParams previous = base;  // the settings before 2026-11-21 09:40 (buffer 20 without motion bound, constant offset)
   previous.buffer_size = 20;
   previous.buffer_motion_px = 0;
   previous.edge_run_model = false;
+  previous.attribution.max_parallel_px = 10;
   for (const auto& s : seqs)
   {
     report(s, "incremental (default)", incremental, runs);
