@@ -1,5 +1,6 @@
 // Event attribution regions (thesis Fig. 4.5) and buffer replacement (Fig. 4.6).
 #include <dvs_line_tracker/segment_attribution.h>
+#include <dvs_line_tracker/tracker_params.h>
 
 #include <gtest/gtest.h>
 
@@ -61,6 +62,26 @@ TEST(Attribution, RegionsAtoD)
   EXPECT_EQ(attributeEvent({40, 23}, segs.data(), 2, p, out, &r), 0);
   EXPECT_EQ(attributeEvent({9, 20}, segs.data(), 2, p, out, &r), 0);
   EXPECT_EQ(attributeEvent({11, 20}, segs.data(), 2, p, out, &r), 1);
+}
+
+TEST(Attribution, TheTrackerLeavesTheNeighbouringSidesCornerAlone)
+{
+  // la fires in a band as it moves along its normal (a camera rising past the square); an event
+  // of that band 2.5 px above la lies 0.5 px from lb's line and 2.5 px beyond lb's end. The
+  // thesis's 10 px beyond an end gave it to lb, which hardly fires while it moves along itself:
+  // such events biased lb's direction (the pitch of the 2 m flip's rise). The tracker's default
+  // reaches 2 px beyond an end, as beside a segment.
+  const auto segs = corner();
+  int out[2];
+  ASSERT_EQ(attributeEvent({79.5, 17.5}, segs.data(), 2, AttributionParams(), out), 1);
+  EXPECT_EQ(out[0], 1);
+  const AttributionParams tracker = LineTrackerParams().attribution;
+  EXPECT_DOUBLE_EQ(tracker.max_orthogonal_px, 2.0);
+  EXPECT_DOUBLE_EQ(tracker.max_parallel_px, 2.0);
+  EXPECT_EQ(attributeEvent({79.5, 17.5}, segs.data(), 2, tracker, out), 0);
+  // 1.5 px beyond lb's far end, away from any corner: still lb's.
+  ASSERT_EQ(attributeEvent({80.5, 81.5}, segs.data(), 2, tracker, out), 1);
+  EXPECT_EQ(out[0], 1);
 }
 
 TEST(Attribution, ThreeSegmentsInRangeDiscardAndInvisibleSegmentsAreIgnored)
