@@ -683,17 +683,10 @@ Pose TrackerInitializer::refineWithWindowEvents(const Pose& initial, const Recen
   const size_t n = map.segments.size();
   Pose pose = initial;
   std::vector<SegmentNormalEquations> eqs(n);
-  std::vector<ProjectedSegment> proj(n);
   for (int it = 0; it < 8; ++it)
   {
     std::vector<SegmentBuffer> buffers(n, SegmentBuffer(static_cast<int>(points.size())));
-    for (size_t i = 0; i < n; ++i)
-    {
-      const Eigen::Vector3d a = pose.toCamera(map.segments[i].p0_world), b = pose.toCamera(map.segments[i].p1_world);
-      proj[i].visible = a.z() > params_.min_depth_m && b.z() > params_.min_depth_m;
-      if (proj[i].visible)
-        proj[i].set(geometry_.k.project(a), geometry_.k.project(b));
-    }
+    const std::vector<ProjectedSegment> proj = projectedMap(pose);
     for (const auto& p : points)
     {
       int segs[2];
@@ -726,18 +719,26 @@ Pose TrackerInitializer::refineWithWindowEvents(const Pose& initial, const Recen
 
 std::vector<ProjectedSegment> TrackerInitializer::projectedMap(const Pose& pose) const
 {
-  std::vector<ProjectedSegment> projected;
-  for (const auto& seg : geometry_.map.segments)
-  {
-    const Eigen::Vector3d a = pose.toCamera(seg.p0_world), b = pose.toCamera(seg.p1_world);
-    if (a.z() <= params_.min_depth_m || b.z() <= params_.min_depth_m)
-      continue;
-    ProjectedSegment ps;
-    ps.set(geometry_.k.project(a), geometry_.k.project(b));
-    projected.push_back(ps);
-  }
+  std::vector<ProjectedSegment> projected(geometry_.map.segments.size());
+  geometry_.project(pose, false, projected);
+  for (ProjectedSegment& s : projected)
+    s.visible = s.in_front;
   return projected;
 }
+
+namespace
+{
+/// Distance (px) from `p` to the nearest visible segment it lies beside (between the segment's
+/// ends); infinite when it lies beside none.
+double distanceBeside(const Eigen::Vector2d& p, const std::vector<ProjectedSegment>& segments)
+{
+  double d = std::numeric_limits<double>::infinity();
+  for (const ProjectedSegment& s : segments)
+    if (s.visible && s.parallelDistance(p) <= 0)
+      d = std::min(d, s.orthogonalDistance(p));
+  return d;
+}
+}  // namespace
 
 double TrackerInitializer::refineResidualPx(const Pose& pose, const RecentEvents& recent) const
 {
@@ -747,10 +748,7 @@ double TrackerInitializer::refineResidualPx(const Pose& pose, const RecentEvents
   size_t n = 0;
   for (const auto& p : recent.refine)
   {
-    double d = std::numeric_limits<double>::infinity();
-    for (const auto& ps : projected)
-      if (ps.parallelDistance(p) <= 0)
-        d = std::min(d, ps.orthogonalDistance(p));
+    const double d = distanceBeside(p, projected);
     if (d <= reach)
     {
       sum_sq += d * d;
@@ -767,12 +765,7 @@ double TrackerInitializer::explainedFraction(const Pose& pose, const RecentEvent
   const std::vector<ProjectedSegment> projected = projectedMap(pose);
   size_t explained = 0;
   for (const auto& p : recent.window)
-    for (const auto& ps : projected)
-      if (ps.orthogonalDistance(p) <= window_attribution_.max_orthogonal_px && ps.parallelDistance(p) <= 0)
-      {
-        ++explained;
-        break;
-      }
+    explained += distanceBeside(p, projected) <= window_attribution_.max_orthogonal_px ? 1 : 0;
   return static_cast<double>(explained) / static_cast<double>(recent.window.size());
 }
 

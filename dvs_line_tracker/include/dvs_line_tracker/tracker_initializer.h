@@ -164,7 +164,8 @@ private:
   /// projected map segment (beside it, not beyond its ends) to the nearest such segment;
   /// infinite when none is.
   double refineResidualPx(const Pose& pose, const RecentEvents& recent) const;
-  /// The map's segments in front of the camera at `pose`, projected (ideal pixels).
+  /// The map's segments projected at `pose` (TrackingGeometry::project, ideal pixels), one per
+  /// map segment, visible when in front of the camera (not clipped to the image).
   std::vector<ProjectedSegment> projectedMap(const Pose& pose) const;
 
   const TrackingGeometry& geometry_;
