@@ -177,6 +177,7 @@ int main(int argc, char** argv)
   thesis.edge_run_model = false;
   thesis.edge_offset_px = 0;
   thesis.attribution.max_parallel_px = 10;  // d_par_max
+  thesis.solve_min_offset_px = 0;           // every event solved
   LineTrackerParams constant_offset = base;  // the default with the constant dark-side offset instead of the run model
   constant_offset.edge_run_model = false;
   LineTrackerParams previous = base;  // the settings before 2026-11-21 09:40 (buffer 20 without motion bound, constant offset)
@@ -184,6 +185,7 @@ int main(int argc, char** argv)
   previous.buffer_motion_px = 0;
   previous.edge_run_model = false;
   previous.attribution.max_parallel_px = 10;
+  previous.solve_min_offset_px = 0;
   for (const auto& s : seqs)
   {
     report(s, "incremental (default)", incremental, runs);

@@ -14,6 +14,8 @@ void EventUpdater::reset()
 {
   dark_side_.clear();
   num_changed_ = events_since_solve_ = 0;
+  offset_since_solve_ = 0;
+  held_steps_ = 0;
   rate_clock_started_ = false;
   solves_ = factorizations_ = 0;
   factor_.valid = false;
@@ -51,13 +53,15 @@ int EventUpdater::start(EstimatorState& state, const Pose& pose)
   changed_flag_.assign(state.projected.size(), 0);
   changed_list_.assign(state.projected.size(), 0);
   num_changed_ = events_since_solve_ = 0;
+  offset_since_solve_ = 0;
+  held_steps_ = 0;
   rate_clock_started_ = false;
   factor_.valid = false;
   return visible;
 }
 
 bool EventUpdater::update(EstimatorState& state, const Eigen::Vector2d& p, bool polarity, double edge_offset,
-                          int64_t t_ns, int* attributed_to)
+                          int64_t t_ns, int* attributed_to, bool may_hold)
 {
   int segs[2];
   const int n =
@@ -71,8 +75,10 @@ bool EventUpdater::update(EstimatorState& state, const Eigen::Vector2d& p, bool 
     return false;
   for (int i = 0; i < n; ++i)
   {
-    state.buffers[segs[i]].insert(dark_side_.correct(p, polarity, segs[i], edge_offset, state.projected),
-                                  state.projected[segs[i]], params_.attribution.max_orthogonal_px,
+    const Eigen::Vector2d pc = dark_side_.correct(p, polarity, segs[i], edge_offset, state.projected);
+    const ProjectedSegment& ps = state.projected[segs[i]];
+    offset_since_solve_ += std::abs(ps.normal.dot(pc - ps.a));
+    state.buffers[segs[i]].insert(pc, ps, params_.attribution.max_orthogonal_px,
                                   params_.attribution.max_parallel_px,
                                   params_.buffer_motion_px > 0 ? params_.buffer_motion_px : 1e300,
                                   params_.estimator.huber_px);
@@ -82,14 +88,21 @@ bool EventUpdater::update(EstimatorState& state, const Eigen::Vector2d& p, bool 
       changed_list_[num_changed_++] = segs[i];
     }
   }
-  if (++events_since_solve_ >= params_.solve_every_events && solveAllowed(t_ns))
+  if (++events_since_solve_ >= params_.solve_every_events)
   {
-    noteSolve();
-    step(state, changed_list_.data(), num_changed_);
-    for (int i = 0; i < num_changed_; ++i)
-      changed_flag_[changed_list_[i]] = 0;
-    num_changed_ = 0;
-    events_since_solve_ = 0;
+    // Events on their lines carry little news: their steps are taken with the next solve.
+    if (may_hold && offset_since_solve_ < params_.solve_min_offset_px)
+      ++held_steps_;
+    else if (solveAllowed(t_ns))
+    {
+      noteSolve();
+      step(state, changed_list_.data(), num_changed_, 1 + held_steps_);
+      for (int i = 0; i < num_changed_; ++i)
+        changed_flag_[changed_list_[i]] = 0;
+      num_changed_ = 0;
+      events_since_solve_ = held_steps_ = 0;
+      offset_since_solve_ = 0;
+    }
   }
   return true;
 }
@@ -140,7 +153,7 @@ void EventUpdater::relinearize(EstimatorState& state, int i) const
   eq.x_lin = state.x_accumulated;
 }
 
-void EventUpdater::step(EstimatorState& state, const int* changed, int num_changed)
+void EventUpdater::step(EstimatorState& state, const int* changed, int num_changed, int steps_wanted)
 {
   const int n = static_cast<int>(state.equations.size());
   const auto& ep = params_.estimator;
@@ -162,6 +175,7 @@ void EventUpdater::step(EstimatorState& state, const int* changed, int num_chang
     };
     for (int c = 0; c < num_changed; ++c)
       relinearizeTracked(changed[c]);
+    const int steps = std::max(1, std::min(steps_wanted, kMaxStepsPerSolve));
     for (int r = 0; r < ep.extra_relinearizations && n > 1; ++r)
     {
       round_robin_ = (round_robin_ + 1) % n;
@@ -176,8 +190,9 @@ void EventUpdater::step(EstimatorState& state, const int* changed, int num_chang
     }
     // A factor serves while the information it was made of changed by less than
     // factor_information_change (a stale factor that under-states the information overshoots),
-    // and at most factor_every_solves solves.
-    if (!factor_.valid || ++solves_on_factor_ >= params_.factor_every_solves ||
+    // and for at most factor_every_solves steps.
+    solves_on_factor_ += steps;
+    if (!factor_.valid || solves_on_factor_ >= params_.factor_every_solves ||
         (information_change_.array() > params_.factor_information_change * factor_.information_diagonal.array()).any())
     {
       information_change_.setZero();
@@ -185,11 +200,22 @@ void EventUpdater::step(EstimatorState& state, const int* changed, int num_chang
       ++factorizations_;
       solves_on_factor_ = 0;
     }
-    Vector6d g, delta;
-    if (gradientAt(state.equations.data(), n, state.x_accumulated, g) && solveWithFactor(factor_, g, delta))
+    // The steps held back by solve_min_offset_px are taken now, on the same normal equations:
+    // a damped step goes only part of the way in the weakly observed directions, and fewer
+    // steps would make the estimate lag there (BENCHMARKS.md, thirtieth session).
+    Vector6d g, delta, total = Vector6d::Zero();
+    bool stepped = false;
+    for (int s = 0; s < steps; ++s)
     {
-      state.pose.applyCameraIncrement(delta);
-      state.x_accumulated += delta;
+      if (!gradientAt(state.equations.data(), n, state.x_accumulated + total, g) || !solveWithFactor(factor_, g, delta))
+        break;
+      total += delta;
+      stepped = true;
+    }
+    if (stepped)
+    {
+      state.pose.applyCameraIncrement(total);
+      state.x_accumulated += total;
     }
   }
   else

@@ -101,6 +101,8 @@ dvs_driver::ParamTable trackerParamTable(LineTrackerParams& p, std::string& solv
   t.add("buffer_size", p.buffer_size, "events", 2, 1024, "events per segment buffer (thesis 8)");
   t.add("solve_every_events", p.solve_every_events, "events", 1, 64,
         "the pose is solved once per this many attributed events (between: attributed and buffered; 1: every event)");
+  t.add("solve_min_offset_px", p.solve_min_offset_px, "px", 0, kInf,
+        "... and once the events since the last solve lie, summed, this far from their segments (0: every event)");
   t.add("max_solve_rate", p.max_solve_rate, "Hz", 0, 1e9,
         "... and at most this often per second of event time, 1 ms bursts let through (0: no limit)");
   t.add("factor_every_solves", p.factor_every_solves, "solves", 1, 1000,

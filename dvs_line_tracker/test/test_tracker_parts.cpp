@@ -270,6 +270,7 @@ TEST(EventUpdater, LinearisesAtAPoseMovedWithoutProjection)
   g.indexSharedEndpoints();
   LineTrackerParams params;
   params.estimator.extra_relinearizations = 0;
+  params.solve_min_offset_px = 0;  // every event solved
   EstimatorState state;
   state.resize(g.map.segments.size(), params.buffer_size);
   EventUpdater updater(g, params);
@@ -302,6 +303,7 @@ TEST(EventUpdater, SolvesEveryEventBelowTheSolveRateAndAtTheRateAbove)
   const TrackingGeometry g = dvs128Geometry();
   LineTrackerParams params;
   params.max_solve_rate = 200000;  // a solve per 5 us, bursts of 1 ms (200 solves) let through
+  params.solve_min_offset_px = 0;  // (events on the line would hold the solve back)
   EstimatorState state;
   state.resize(g.map.segments.size(), params.buffer_size);
   EventUpdater updater(g, params);
@@ -342,6 +344,7 @@ TEST(EventUpdater, SegmentsWithoutEventsAreReLinearisedRoundRobin)
   const TrackingGeometry g = dvs128Geometry();
   LineTrackerParams params;
   params.max_solve_rate = 0;
+  params.solve_min_offset_px = 0;  // every event solved
   EstimatorState state;
   state.resize(g.map.segments.size(), params.buffer_size);
   EventUpdater updater(g, params);
@@ -398,6 +401,8 @@ TEST(EventUpdater, ReusesTheFactorOfTheInformationWhileItChangesLittle)
   on_change.factor_information_change = 0.0;
   tolerant.factor_every_solves = 1000;
   tolerant.factor_information_change = 0.05;
+  for (LineTrackerParams* p : {&every, &fourth, &on_change, &tolerant})
+    p->solve_min_offset_px = 0;  // every event solved
   const LineTrackerParams* params[4] = {&every, &fourth, &on_change, &tolerant};
   std::vector<EstimatorState> states(4);
   std::vector<EventUpdater> updaters;
@@ -444,6 +449,63 @@ TEST(EventUpdater, ReusesTheFactorOfTheInformationWhileItChangesLittle)
   updaters[1].refresh(states[1]);
   ASSERT_TRUE(updaters[1].update(states[1], event(400), true, 0.0, t));
   EXPECT_EQ(updaters[1].factorizations(), before + 1);
+}
+
+TEST(EventUpdater, EventsOnTheirLinesWaitAndTheirStepsComeWithTheNextSolve)
+{
+  // solve_min_offset_px: events on their projected segments hold the solve back (no news for
+  // the pose); the next solve takes their damped steps too, so that the pose ends where solving
+  // every event takes it, with fewer solves.
+  const TrackingGeometry g = dvs128Geometry();
+  LineTrackerParams every, gated;
+  every.max_solve_rate = gated.max_solve_rate = 0;
+  every.solve_min_offset_px = 0;
+  gated.solve_min_offset_px = 0.5;
+  EstimatorState se, sg;
+  se.resize(g.map.segments.size(), every.buffer_size);
+  sg.resize(g.map.segments.size(), gated.buffer_size);
+  EventUpdater ue(g, every), ug(g, gated);
+  ue.start(se, kFront);
+  ug.start(sg, kFront);
+  const ProjectedSegment s0 = se.projected[0], s1 = se.projected[1];
+  // 40 events on side 0's projected line: solved 40 times, or not at all.
+  int64_t t = 1000000;
+  for (int i = 0; i < 40; ++i, t += 20000)
+  {
+    const Eigen::Vector2d on_line = s0.a + (0.1 + 0.8 * i / 40.0) * (s0.b - s0.a);
+    ASSERT_TRUE(ue.update(se, on_line, true, 0.0, t));
+    ASSERT_TRUE(ug.update(sg, on_line, true, 0.0, t));
+  }
+  EXPECT_EQ(ue.solves(), 40u);
+  EXPECT_EQ(ug.solves(), 0u);
+  // Unless the caller says the pose moved between events (an IMU's prediction): then no hold.
+  EstimatorState sp;
+  sp.resize(g.map.segments.size(), gated.buffer_size);
+  EventUpdater up(g, gated);
+  up.start(sp, kFront);
+  for (int i = 0; i < 40; ++i)
+    ASSERT_TRUE(up.update(sp, s0.a + (0.1 + 0.8 * i / 40.0) * (s0.b - s0.a), true, 0.0, 1000000 + 20000 * i, nullptr, false));
+  EXPECT_EQ(up.solves(), 40u);
+  // Then events 0.6 px off two sides, as if the square had moved, spread across +-0.5 px as the
+  // pixel grid spreads them: the first one is solved at once; once the pose follows them, the
+  // events lie closer and solves are held back.
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> spread(-0.5, 0.5);
+  for (int i = 0; i < 400; ++i, t += 20000)
+  {
+    const ProjectedSegment& s = i % 2 ? s1 : s0;
+    const Eigen::Vector2d off = s.a + (0.1 + 0.8 * (i % 37) / 37.0) * (s.b - s.a) + (0.6 + (i > 0 ? spread(rng) : 0.0)) * s.normal;
+    ASSERT_TRUE(ue.update(se, off, true, 0.0, t));
+    ASSERT_TRUE(ug.update(sg, off, true, 0.0, t));
+    if (i == 0)
+      EXPECT_EQ(ug.solves(), 1u);
+  }
+  EXPECT_EQ(ue.solves(), 440u);
+  EXPECT_LT(ug.solves(), 300u);
+  const double moved = positionError(kFront, se.pose);
+  EXPECT_GT(moved, 1e-3);  // the events moved the pose...
+  EXPECT_LT(positionError(se.pose, sg.pose), 0.05 * moved);  // ...and both alike
+  EXPECT_LT(orientationError(se.pose, sg.pose), 0.05 * orientationError(kFront, se.pose));
 }
 
 namespace

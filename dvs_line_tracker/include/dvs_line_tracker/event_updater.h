@@ -30,8 +30,10 @@ public:
   /// solve_every_events attributed events, and at most max_solve_rate times per second of event
   /// time). Returns true when it was attributed. Allocates nothing. `attributed_to` (optional,
   /// two entries): the segments it was attributed to, -1 for none.
+  /// `may_hold`: whether solve_min_offset_px may hold the solve back (false while a propagator
+  /// moves the pose between events: the projection an event is compared with is then stale).
   bool update(EstimatorState& state, const Eigen::Vector2d& p, bool polarity, double edge_offset, int64_t t_ns,
-              int* attributed_to = nullptr);
+              int* attributed_to = nullptr, bool may_hold = true);
 
   /// Refresh what the per-event path leaves stale (called at every quality check): clip the
   /// projections to the image (visibility), drop the stale events of every buffer, and choose
@@ -52,7 +54,9 @@ private:
   /// Project the map at state.pose (projected, projected_at).
   void project(EstimatorState& state, bool update_visibility) const;
   void relinearize(EstimatorState& state, int i) const;
-  void step(EstimatorState& state, const int* changed, int num_changed);
+  /// A solve that takes `steps_wanted` damped steps (at most kMaxStepsPerSolve) on the same normal equations.
+  void step(EstimatorState& state, const int* changed, int num_changed, int steps_wanted);
+  static constexpr int kMaxStepsPerSolve = 64;
   void expireStaleEvents(EstimatorState& state, int i) const;
 
   const TrackingGeometry& geometry_;
@@ -64,6 +68,8 @@ private:
   std::vector<int> changed_list_;
   std::vector<uint64_t> linearized_at_;  ///< per segment: solves_ when it was last re-linearised
   int num_changed_ = 0, events_since_solve_ = 0;
+  double offset_since_solve_ = 0;  ///< summed |distance| of the events since the last solve from their segments
+  int held_steps_ = 0;             ///< solves held back by solve_min_offset_px since the last solve
   // The solve rate limit (a leaky bucket in event time, GCRA): a solve is allowed while the
   // event clock is past solve_due_ns_ - kSolveBurstNs; each solve moves solve_due_ns_ on by one
   // period. Bursts of up to kSolveBurstNs x rate solves pass; the long-run rate is bounded.
