@@ -75,13 +75,13 @@ bool EventUpdater::update(EstimatorState& state, const Eigen::Vector2d& p, bool 
     return false;
   for (int i = 0; i < n; ++i)
   {
-    const Eigen::Vector2d pc = dark_side_.correct(p, polarity, segs[i], edge_offset, state.projected);
-    const ProjectedSegment& ps = state.projected[segs[i]];
-    offset_since_solve_ += std::abs(ps.normal.dot(pc - ps.a));
-    state.buffers[segs[i]].insert(pc, ps, params_.attribution.max_orthogonal_px,
-                                  params_.attribution.max_parallel_px,
-                                  params_.buffer_motion_px > 0 ? params_.buffer_motion_px : 1e300,
-                                  params_.estimator.huber_px);
+    SegmentBuffer& buffer = state.buffers[segs[i]];
+    const int slot = buffer.insert(dark_side_.correct(p, polarity, segs[i], edge_offset, state.projected),
+                                   state.projected[segs[i]], params_.attribution.max_orthogonal_px,
+                                   params_.attribution.max_parallel_px,
+                                   params_.buffer_motion_px > 0 ? params_.buffer_motion_px : 1e300,
+                                   params_.estimator.huber_px);
+    offset_since_solve_ += std::abs(buffer.offset(slot));
     if (!changed_flag_[segs[i]])
     {
       changed_flag_[segs[i]] = 1;

@@ -179,6 +179,8 @@ public:
   int size() const { return size_; }
   Eigen::Vector2d point(int i) const { return Eigen::Vector2d(x_[i], y_[i]); }
   double weight(int i) const { return weights_[i]; }
+  /// Signed distance of point `i` from its segment's projected line when it was inserted.
+  double offset(int i) const { return offsets_[i]; }
   /// Insertion count of the buffer when point `i` was inserted (its age in insertions: clock() - stamp(i)).
   uint64_t stamp(int i) const { return stamps_[i]; }
   uint64_t clock() const { return clock_; }
