@@ -159,6 +159,23 @@ bool gradientAt(const SegmentNormalEquations* eqs, int n, const Vector6d& x_now,
   return used > 0;
 }
 
+bool gradientAndInformationAt(const SegmentNormalEquations* eqs, int n, const Vector6d& x_now, Vector6d& g,
+                              Matrix6d& information)
+{
+  g.setZero();
+  information.setZero();
+  int used = 0;
+  for (int i = 0; i < n; ++i)
+  {
+    if (!eqs[i].active)
+      continue;
+    g.noalias() += eqs[i].g + eqs[i].H * (x_now - eqs[i].x_lin);
+    information += eqs[i].H;
+    ++used;
+  }
+  return used > 0;
+}
+
 bool solveWithFactor(const DampedFactor& f, const Vector6d& g, Vector6d& delta)
 {
   if (!f.valid)

@@ -182,6 +182,19 @@ TEST(PoseEstimator, AFactorServesTheStepsOfLaterGradients)
     ASSERT_TRUE(solveStep(eqs.data(), 3, x_now, damping, whole));
     EXPECT_EQ(whole, delta);
   }
+  // The summed information carries the gradient to any later point: g(x + d) = g(x) + H d (the
+  // held steps of the updater take it so, one 6x6 product per step).
+  {
+    const Vector6d x_now = 0.02 * Vector6d::Random(), d = 0.01 * Vector6d::Random();
+    Vector6d g, g_same, g_moved;
+    Matrix6d information;
+    ASSERT_TRUE(gradientAndInformationAt(eqs.data(), 3, x_now, g, information));
+    ASSERT_TRUE(gradientAt(eqs.data(), 3, x_now, g_same));
+    EXPECT_EQ(g, g_same);
+    EXPECT_LT((information - (eqs[0].H + eqs[1].H)).norm(), 1e-12 * information.norm());
+    ASSERT_TRUE(gradientAt(eqs.data(), 3, x_now + d, g_moved));
+    EXPECT_LT((g + information * d - g_moved).norm(), 1e-12 * g_moved.norm());
+  }
   eqs[0].H = -4.0 * Matrix6d::Identity();
   EXPECT_FALSE(factorDampedInformation(eqs.data(), 2, damping, f));
   EXPECT_FALSE(f.valid);
@@ -191,4 +204,6 @@ TEST(PoseEstimator, AFactorServesTheStepsOfLaterGradients)
   EXPECT_FALSE(factorDampedInformation(eqs.data(), 3, damping, f));
   Vector6d g;
   EXPECT_FALSE(gradientAt(eqs.data(), 3, Vector6d::Zero(), g));
+  Matrix6d information;
+  EXPECT_FALSE(gradientAndInformationAt(eqs.data(), 3, Vector6d::Zero(), g, information));
 }

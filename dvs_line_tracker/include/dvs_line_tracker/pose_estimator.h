@@ -79,6 +79,10 @@ bool factorDampedInformation(const SegmentNormalEquations* eqs, int n, double da
 /// The gradient of the active segments carried to `x_now` (sum g_i + H_i (x_now - x_lin_i));
 /// false when none is active.
 bool gradientAt(const SegmentNormalEquations* eqs, int n, const Vector6d& x_now, Vector6d& g);
+/// gradientAt, and the summed information of the active segments (sum H_i) in the same pass:
+/// the gradient at x_now + d is then g + H d, whatever the number of segments.
+bool gradientAndInformationAt(const SegmentNormalEquations* eqs, int n, const Vector6d& x_now, Vector6d& g,
+                              Matrix6d& information);
 /// delta = -(L D L^T)^-1 g (the factor's inverse times g); false when `f` is invalid or the result is not finite.
 bool solveWithFactor(const DampedFactor& f, const Vector6d& g, Vector6d& delta);
 }  // namespace dvs_line_tracker
