@@ -1,5 +1,6 @@
 #include <dvs_line_tracker/pose_initializer.h>
 
+#include <Eigen/Geometry>
 #include <ceres/ceres.h>
 #include <ceres/rotation.h>
 #include <opencv2/calib3d.hpp>
@@ -126,6 +127,82 @@ bool viewedFromFront(const MapPolygon& poly, const Pose& pose)
     centroid += c;
   centroid /= static_cast<double>(poly.corners_world.size());
   return frontNormal(poly).dot(pose.p_world_camera() - centroid) >= 0;
+}
+
+/// The pose of one corner assignment: IPPE for planar polygons (`planar_ippe`); it degenerates
+/// (NaN) for exactly fronto-parallel views, where SQPnP takes over (and for non-planar ones).
+/// SQPnP is a global search about ten times IPPE's cost: it runs only when IPPE gave no pose
+/// that fits the corners (within `max_rms_px`). Returns the corner reprojection RMS of `pose`
+/// (infinite: no pose).
+double solveAssignment(const std::vector<cv::Point3d>& world_cv, const std::vector<cv::Point2d>& image_cv,
+                       const cv::Matx33d& K, bool planar_ippe, const PinholeK& k,
+                       const std::vector<Eigen::Vector2d>& corners_ideal_px, const std::vector<Eigen::Vector3d>& world,
+                       double max_rms_px, Pose& pose)
+{
+  double rms = std::numeric_limits<double>::infinity();
+  for (const int method : {cv::SOLVEPNP_IPPE, cv::SOLVEPNP_SQPNP})
+  {
+    if (method == cv::SOLVEPNP_IPPE && !planar_ippe)
+      continue;
+    cv::Vec3d rvec, tvec;
+    bool ok = false;
+    try
+    {
+      ok = cv::solvePnP(world_cv, image_cv, K, cv::noArray(), rvec, tvec, false, method);
+    }
+    catch (const cv::Exception&)
+    {
+      ok = false;
+    }
+    if (!ok || !std::isfinite(rvec[0] + rvec[1] + rvec[2] + tvec[0] + tvec[1] + tvec[2]))
+      continue;
+    cv::Matx33d Rcv;
+    cv::Rodrigues(rvec, Rcv);
+    const Pose candidate = poseFromCv(Rcv, tvec.val);
+    const double candidate_rms = cornerReprojectionRms(candidate, k, corners_ideal_px, world);
+    if (candidate_rms < rms)
+    {
+      rms = candidate_rms;
+      pose = candidate;
+    }
+    if (rms <= max_rms_px)
+      break;
+  }
+  return rms;
+}
+
+/// The rigid motion S with S * from[i] = to[i] for every i (within 1e-9 of the points' extent);
+/// false when there is none. A planar polygon's corners in another order are such an image of
+/// themselves when the order is one of the polygon's symmetries: a square's quarter turns, and
+/// its reversed orders (a half turn about an axis in its plane).
+bool rigidMotionBetween(const std::vector<Eigen::Vector3d>& from, const std::vector<Eigen::Vector3d>& to,
+                        Eigen::Isometry3d& S)
+{
+  const int n = static_cast<int>(from.size());
+  if (n < 3 || to.size() != from.size())
+    return false;
+  Eigen::Matrix3Xd src(3, n), dst(3, n);
+  for (int i = 0; i < n; ++i)
+  {
+    src.col(i) = from[i];
+    dst.col(i) = to[i];
+  }
+  S.matrix() = Eigen::umeyama(src, dst, false);
+  const Eigen::Vector3d centroid = src.rowwise().mean();
+  const double extent = std::max((src.colwise() - centroid).colwise().norm().maxCoeff(), 1.0);
+  for (int i = 0; i < n; ++i)
+    if (!((S * from[i] - to[i]).norm() <= 1e-9 * extent))
+      return false;
+  return std::abs(S.linear().determinant() - 1.0) < 1e-9;
+}
+
+/// The camera pose that sees S * x where `pose` sees x (pose * S^-1).
+Pose composedWithInverse(const Pose& pose, const Eigen::Isometry3d& S)
+{
+  Pose out;
+  out.R_camera_world = pose.R_camera_world * S.linear().transpose();
+  out.t_camera_world = pose.t_camera_world - out.R_camera_world * S.translation();
+  return out;
 }
 }  // namespace
 
@@ -324,50 +401,47 @@ bool estimateInitialPose(const std::vector<Eigen::Vector2d>& corners_ideal_px, c
     const MapPolygon& poly = map.polygons[pi];
     if (static_cast<int>(poly.corners_world.size()) != n || (only_polygon >= 0 && static_cast<int>(pi) != only_polygon))
       continue;
+    // An assignment whose corners are a rigid motion S of an assignment solved before (the
+    // polygon's symmetries: a square's quarter turns and reversed orders) fits exactly as that
+    // one does, moved by S: its pose is derived, not solved again (a square: 1 solve instead of
+    // 8; the solves were most of a noisy scene's detection attempts, BENCHMARKS.md).
+    struct Solved
+    {
+      std::vector<Eigen::Vector3d> world;
+      Pose pose;
+      bool posed;  ///< the solve gave a pose (fitting or not)
+    };
+    std::vector<Solved> solved;
     for (int direction = 0; direction < 2; ++direction)
       for (int shift = 0; shift < n; ++shift)
       {
         std::vector<int> assignment(n);
-        std::vector<cv::Point3d> world_cv;
         std::vector<Eigen::Vector3d> world;
         for (int i = 0; i < n; ++i)
         {
           assignment[i] = direction == 0 ? (shift + i) % n : (shift - i + n) % n;
           world.push_back(poly.corners_world[assignment[i]]);
-          world_cv.emplace_back(world.back().x(), world.back().y(), world.back().z());
         }
-        // IPPE for planar polygons; it degenerates (NaN) for exactly fronto-parallel views,
-        // where SQPnP takes over (and for non-planar ones). SQPnP is a global search about ten
-        // times IPPE's cost: it runs only when IPPE gave no pose that fits the corners.
         Pose pose;
         double rms = std::numeric_limits<double>::infinity();
-        for (const int method : {cv::SOLVEPNP_IPPE, cv::SOLVEPNP_SQPNP})
+        Eigen::Isometry3d S;
+        const auto image_of = std::find_if(solved.begin(), solved.end(),
+                                           [&](const Solved& e) { return rigidMotionBetween(e.world, world, S); });
+        if (image_of != solved.end())
         {
-          if (method == cv::SOLVEPNP_IPPE && !(poly.planar && n >= 4))
+          if (!image_of->posed)
             continue;
-          cv::Vec3d rvec, tvec;
-          bool ok = false;
-          try
-          {
-            ok = cv::solvePnP(world_cv, image_cv, K, cv::noArray(), rvec, tvec, false, method);
-          }
-          catch (const cv::Exception&)
-          {
-            ok = false;
-          }
-          if (!ok || !std::isfinite(rvec[0] + rvec[1] + rvec[2] + tvec[0] + tvec[1] + tvec[2]))
-            continue;
-          cv::Matx33d Rcv;
-          cv::Rodrigues(rvec, Rcv);
-          const Pose candidate = poseFromCv(Rcv, tvec.val);
-          const double candidate_rms = cornerReprojectionRms(candidate, k, corners_ideal_px, world);
-          if (candidate_rms < rms)
-          {
-            rms = candidate_rms;
-            pose = candidate;
-          }
-          if (rms <= params.max_reprojection_rms_px)
-            break;
+          pose = composedWithInverse(image_of->pose, S);
+          rms = cornerReprojectionRms(pose, k, corners_ideal_px, world);
+        }
+        else
+        {
+          std::vector<cv::Point3d> world_cv;
+          for (const auto& w : world)
+            world_cv.emplace_back(w.x(), w.y(), w.z());
+          rms = solveAssignment(world_cv, image_cv, K, poly.planar && n >= 4, k, corners_ideal_px, world,
+                                params.max_reprojection_rms_px, pose);
+          solved.push_back({world, pose, std::isfinite(rms)});
         }
         if (!(rms <= params.max_reprojection_rms_px))
           continue;

@@ -497,6 +497,45 @@ TEST(PoseInit, TriangleGetsItsOtherP3PSolutionsAsAlternatives)
     EXPECT_LT(cornerReprojectionRms(p, kK, projectCorners(tri, truth), tri.polygons[0].corners_world), 1e-3);
 }
 
+TEST(PoseInit, ASquaresTurnedAssignmentsFitAsTheSolvedOnesDo)
+{
+  // The square's corner assignments (quarter turns, reversed orders) are derived from the first
+  // one's pose by the square's symmetries, not solved again; a square that is not quite
+  // symmetric (one corner 0.1 um off) has every assignment solved. Both must give the same pose,
+  // rotations and up margin, on noisy corners seen from a steep angle, at a roll where two
+  // rotations nearly tie and at one where they do not.
+  const LineMap square = defaultSquareMap();
+  LineMap uneven;
+  for (auto s : square.segments)
+  {
+    for (Eigen::Vector3d* p : {&s.p0_world, &s.p1_world})
+      if (p->x() > 0 && p->y() > 0)
+        *p += Eigen::Vector3d(1e-7, 0, 0);
+    uneven.segments.push_back(s);
+  }
+  finalizeLineMap(uneven, "uneven square");
+  const Eigen::Vector2d noise[4] = {{0.3, -0.2}, {-0.25, 0.3}, {0.2, 0.2}, {-0.3, -0.3}};
+  for (double roll_deg : {5.0, 40.0})
+  {
+    const Pose truth = lookAt({0.9, 0.3, 1.1}, {0, 0, 0}, {0, 1, 0}, roll_deg * M_PI / 180);
+    auto corners = projectCorners(square, truth);
+    for (int i = 0; i < 4; ++i)
+      corners[i] += noise[i];
+    InitialPose derived, solved;
+    ASSERT_TRUE(estimateInitialPose(corners, square, kK, PoseInitParams(), derived)) << roll_deg;
+    ASSERT_TRUE(estimateInitialPose(corners, uneven, kK, PoseInitParams(), solved)) << roll_deg;
+    EXPECT_LT(positionError(derived.pose, solved.pose), 1e-5) << roll_deg;
+    EXPECT_LT(orientationError(derived.pose, solved.pose), 1e-5) << roll_deg;
+    EXPECT_NEAR(derived.up_margin, solved.up_margin, 1e-5) << roll_deg;
+    EXPECT_NEAR(derived.reprojection_rms_px, solved.reprojection_rms_px, 1e-5) << roll_deg;
+    ASSERT_EQ(derived.rotations.size(), solved.rotations.size()) << roll_deg;
+    EXPECT_GE(derived.rotations.size(), 1u) << roll_deg;
+    for (size_t r = 0; r < derived.rotations.size(); ++r)
+      EXPECT_LT(positionError(derived.rotations[r], solved.rotations[r]), 1e-5) << roll_deg;
+    EXPECT_LT(positionError(derived.pose, truth), 0.05) << roll_deg;
+  }
+}
+
 TEST(PoseInit, NoisyCornersGiveACloseRefinedPose)
 {
   const LineMap map = defaultSquareMap();
