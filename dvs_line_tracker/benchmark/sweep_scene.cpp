@@ -153,6 +153,12 @@ SweepScene buildSweepScene(const SweepSceneSpec& spec)
   double coverage = spec.coverage;
   if (multi)  // both polygons fit side by side (2.3 sides wide) unless the view is partial
     coverage = std::min(coverage, 0.85 * (half_w / half_h) / 2.3);
+  // A square seen 60 deg off its normal comes side / 2 * sin(60 deg) nearer at its near side:
+  // close and through a wide lens, that side passed behind the camera (scene 44 of the sweep:
+  // two corners at or behind the camera for the whole run, no pose possible). It stays at least
+  // 30 % of the distance in front.
+  if (spec.map == SweepMap::kSteepSquare)
+    coverage = std::min(coverage, 0.7 / (std::sin(60 * kDeg) * half_h));
   double side = 0.9;
   double distance = side / (coverage * 2 * half_h);
   const double clamped = std::clamp(distance, 0.3, 5.0);
