@@ -56,13 +56,24 @@ bool intersectLines(const ImageSegment& a, const ImageSegment& b, Eigen::Vector2
 
 namespace
 {
+/// A segment as a side run from `near_end` to `far_end`; its direction and length are computed
+/// once (the search asks for them at every pair it tests: meets() was most of a noisy scene's
+/// detection attempts).
 struct Oriented
 {
+  Oriented(int id_, const Eigen::Vector2d& near, const Eigen::Vector2d& far, int end_)
+    : id(id_), near_end(near), far_end(far), end(end_), unit((far - near).normalized()), len((far - near).norm())
+  {
+  }
   int id;
   Eigen::Vector2d near_end, far_end;
   int end = 0;  ///< 0: near_end is the segment's p0, 1: its p1
-  Eigen::Vector2d dir() const { return (far_end - near_end).normalized(); }
-  double length() const { return (far_end - near_end).norm(); }
+  const Eigen::Vector2d& dir() const { return unit; }
+  double length() const { return len; }
+
+private:
+  Eigen::Vector2d unit;
+  double len;
 };
 
 double cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); }
