@@ -671,6 +671,8 @@ TrackerInitializer::RecentEvents TrackerInitializer::recentEvents() const
   r.evidence = hough_.evidencePoints();
   const size_t keep = std::min(r.window.size(), static_cast<size_t>(std::max(refine_events_, 0)));
   r.refine.assign(r.window.end() - static_cast<std::ptrdiff_t>(keep), r.window.end());
+  r.window_grid.reset(r.window);
+  r.evidence_grid.reset(r.evidence);
   return r;
 }
 
@@ -777,7 +779,6 @@ TrackerInitializer::Coverage TrackerInitializer::sideCoverage(const Pose& pose, 
   const int width = geometry_.width, height = geometry_.height;
   // Every visible side must be backed by events along most of its visible length; corners may
   // be outside the image (a partial view) as long as enough sides are in view.
-  const std::vector<Eigen::Vector2d>& points = recent.evidence;
   constexpr double kCell = 3.0;
   const double d_max = window_attribution_.max_orthogonal_px;
   const double shift = kSurroundingShift * d_max;
@@ -802,11 +803,12 @@ TrackerInitializer::Coverage TrackerInitializer::sideCoverage(const Pose& pose, 
     ps.set(ca, cb);
     const int cells = std::max(1, static_cast<int>(len / kCell));
     filled.assign(cells, 0);
-    for (const auto& p : points)
-    {
+    // Only points within shift + d_max of the side can count (the cells near it; a cell's bits
+    // are or-ed, so the order of the points does not matter).
+    recent.evidence_grid.forEachNearSegment(ca, cb, shift + d_max, [&](const Eigen::Vector2d& p) {
       const double t = ps.dir.dot(p - ps.a);
       if (t < 0 || t >= len)
-        continue;
+        return;
       const double d = ps.normal.dot(p - ps.a);
       const unsigned char bit = std::abs(d) <= d_max           ? 1
                                 : std::abs(d - shift) <= d_max ? 2
@@ -814,7 +816,7 @@ TrackerInitializer::Coverage TrackerInitializer::sideCoverage(const Pose& pose, 
                                                                : 0;
       if (bit)
         filled[std::min(cells - 1, static_cast<int>(t / len * cells))] |= bit;
-    }
+    });
     int n = 0, left = 0, right = 0;
     for (unsigned char f : filled)
     {
@@ -848,8 +850,16 @@ TrackerInitializer::Coverage TrackerInitializer::sideCoverage(const Pose& pose, 
       sides.push_back(ps);
     }
     int on_sides = 0, inside = 0;
-    for (const auto& p : recent.window)
+    // A point on a side or inside the polygon lies in its corners' box grown by the attribution
+    // distance; the others count for neither.
+    Eigen::Vector2d lo = sides.front().a, hi = lo;
+    for (const auto& sd : sides)
     {
+      lo = lo.cwiseMin(sd.a).cwiseMin(sd.b);
+      hi = hi.cwiseMax(sd.a).cwiseMax(sd.b);
+    }
+    const Eigen::Vector2d grow = Eigen::Vector2d::Constant(window_attribution_.max_orthogonal_px);
+    recent.window_grid.forEachInBox(lo - grow, hi + grow, [&](const Eigen::Vector2d& p) {
       double nearest = 1e300;
       int sign_pos = 0, sign_neg = 0;
       for (const auto& sd : sides)
@@ -863,7 +873,7 @@ TrackerInitializer::Coverage TrackerInitializer::sideCoverage(const Pose& pose, 
         ++on_sides;
       else if ((sign_pos == 0 || sign_neg == 0) && nearest > 2 * window_attribution_.max_orthogonal_px)
         ++inside;
-    }
+    });
     if (inside > params_.init_max_inside_ratio * std::max(on_sides, 1))
       return result;
   }

@@ -17,6 +17,7 @@
 #include <dvs_driver/event.h>
 #include <dvs_line_tracker/estimator_state.h>
 #include <dvs_line_tracker/hough_line_detector.h>
+#include <dvs_line_tracker/point_grid.h>
 #include <dvs_line_tracker/polygon_search.h>
 #include <dvs_line_tracker/tracker_params.h>
 
@@ -105,6 +106,7 @@ private:
     std::vector<Eigen::Vector2d> refine;    ///< the latest init_refine_events (scaled) of the window
     std::vector<Eigen::Vector2d> window;    ///< the Hough window
     std::vector<Eigen::Vector2d> evidence;  ///< init_evidence_windows windows
+    PointGrid window_grid{8.0}, evidence_grid{8.0};  ///< the same, bucketed (sideCoverage)
   };
   RecentEvents recentEvents() const;
   /// What became of one image polygon: try the next, stop this attempt (a valid detection
