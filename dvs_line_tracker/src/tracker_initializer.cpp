@@ -671,8 +671,6 @@ TrackerInitializer::RecentEvents TrackerInitializer::recentEvents() const
   r.evidence = hough_.evidencePoints();
   const size_t keep = std::min(r.window.size(), static_cast<size_t>(std::max(refine_events_, 0)));
   r.refine.assign(r.window.end() - static_cast<std::ptrdiff_t>(keep), r.window.end());
-  r.window_grid.reset(r.window);
-  r.evidence_grid.reset(r.evidence);
   return r;
 }
 
@@ -805,7 +803,7 @@ TrackerInitializer::Coverage TrackerInitializer::sideCoverage(const Pose& pose, 
     filled.assign(cells, 0);
     // Only points within shift + d_max of the side can count (the cells near it; a cell's bits
     // are or-ed, so the order of the points does not matter).
-    recent.evidence_grid.forEachNearSegment(ca, cb, shift + d_max, [&](const Eigen::Vector2d& p) {
+    recent.evidenceGrid().forEachNearSegment(ca, cb, shift + d_max, [&](const Eigen::Vector2d& p) {
       const double t = ps.dir.dot(p - ps.a);
       if (t < 0 || t >= len)
         return;
@@ -859,7 +857,7 @@ TrackerInitializer::Coverage TrackerInitializer::sideCoverage(const Pose& pose, 
       hi = hi.cwiseMax(sd.a).cwiseMax(sd.b);
     }
     const Eigen::Vector2d grow = Eigen::Vector2d::Constant(window_attribution_.max_orthogonal_px);
-    recent.window_grid.forEachInBox(lo - grow, hi + grow, [&](const Eigen::Vector2d& p) {
+    recent.windowGrid().forEachInBox(lo - grow, hi + grow, [&](const Eigen::Vector2d& p) {
       double nearest = 1e300;
       int sign_pos = 0, sign_neg = 0;
       for (const auto& sd : sides)

@@ -106,7 +106,30 @@ private:
     std::vector<Eigen::Vector2d> refine;    ///< the latest init_refine_events (scaled) of the window
     std::vector<Eigen::Vector2d> window;    ///< the Hough window
     std::vector<Eigen::Vector2d> evidence;  ///< init_evidence_windows windows
-    PointGrid window_grid{8.0}, evidence_grid{8.0};  ///< the same, bucketed (sideCoverage)
+    /// The window and the evidence bucketed (sideCoverage), built at the first use: most
+    /// attempts find no polygon to validate.
+    const PointGrid& windowGrid() const
+    {
+      buildGrids();
+      return window_grid;
+    }
+    const PointGrid& evidenceGrid() const
+    {
+      buildGrids();
+      return evidence_grid;
+    }
+
+  private:
+    void buildGrids() const
+    {
+      if (grids_built)
+        return;
+      window_grid.reset(window);
+      evidence_grid.reset(evidence);
+      grids_built = true;
+    }
+    mutable PointGrid window_grid{8.0}, evidence_grid{8.0};
+    mutable bool grids_built = false;
   };
   RecentEvents recentEvents() const;
   /// What became of one image polygon: try the next, stop this attempt (a valid detection
