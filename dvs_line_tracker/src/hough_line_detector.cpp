@@ -450,6 +450,9 @@ std::vector<ImageSegment> HoughLineDetector::detectSegments(Pass pass) const
     bool seen = false;
     for (const auto& done : processed)
     {
+      // (Lines whose offsets differ by 0.5 px either way are never the same: no cosine needed.)
+      if (std::abs(done.r - line.r) >= 0.5 && std::abs(done.r + line.r) >= 0.5)
+        continue;
       const double c = std::abs(std::cos(done.theta - line.theta));
       const double r_same = std::cos(done.theta - line.theta) > 0 ? done.r : -done.r;
       if (c > std::cos(1.0 * M_PI / 180.0) && std::abs(r_same - line.r) < 0.5)
