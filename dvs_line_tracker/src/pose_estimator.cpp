@@ -145,35 +145,41 @@ bool factorDampedInformation(const SegmentNormalEquations* eqs, int n, double da
   return true;
 }
 
-bool gradientAt(const SegmentNormalEquations* eqs, int n, const Vector6d& x_now, Vector6d& g)
+namespace
+{
+/// The active segments' gradient carried to `x_now`, and (kWithInformation) their summed
+/// information; false when none is active. (A template: a run-time test in the loop cost the
+/// tracking 1.5 %.)
+template <bool kWithInformation>
+bool accumulateGradient(const SegmentNormalEquations* eqs, int n, const Vector6d& x_now, Vector6d& g,
+                        Matrix6d* information)
 {
   g.setZero();
+  if constexpr (kWithInformation)
+    information->setZero();
   int used = 0;
   for (int i = 0; i < n; ++i)
   {
     if (!eqs[i].active)
       continue;
     g.noalias() += eqs[i].g + eqs[i].H * (x_now - eqs[i].x_lin);
+    if constexpr (kWithInformation)
+      *information += eqs[i].H;
     ++used;
   }
   return used > 0;
+}
+}  // namespace
+
+bool gradientAt(const SegmentNormalEquations* eqs, int n, const Vector6d& x_now, Vector6d& g)
+{
+  return accumulateGradient<false>(eqs, n, x_now, g, nullptr);
 }
 
 bool gradientAndInformationAt(const SegmentNormalEquations* eqs, int n, const Vector6d& x_now, Vector6d& g,
                               Matrix6d& information)
 {
-  g.setZero();
-  information.setZero();
-  int used = 0;
-  for (int i = 0; i < n; ++i)
-  {
-    if (!eqs[i].active)
-      continue;
-    g.noalias() += eqs[i].g + eqs[i].H * (x_now - eqs[i].x_lin);
-    information += eqs[i].H;
-    ++used;
-  }
-  return used > 0;
+  return accumulateGradient<true>(eqs, n, x_now, g, &information);
 }
 
 bool solveWithFactor(const DampedFactor& f, const Vector6d& g, Vector6d& delta)
