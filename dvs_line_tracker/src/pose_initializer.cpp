@@ -134,11 +134,13 @@ bool viewedFromFront(const MapPolygon& poly, const Pose& pose)
 /// SQPnP is a global search about ten times IPPE's cost: it runs only when IPPE gave no pose
 /// that fits the corners (within `max_rms_px`). Returns the corner reprojection RMS of `pose`
 /// (infinite: no pose).
-double solveAssignment(const std::vector<cv::Point3d>& world_cv, const std::vector<cv::Point2d>& image_cv,
+double solveAssignment(const std::vector<Eigen::Vector3d>& world, const std::vector<cv::Point2d>& image_cv,
                        const cv::Matx33d& K, bool planar_ippe, const PinholeK& k,
-                       const std::vector<Eigen::Vector2d>& corners_ideal_px, const std::vector<Eigen::Vector3d>& world,
-                       double max_rms_px, Pose& pose)
+                       const std::vector<Eigen::Vector2d>& corners_ideal_px, double max_rms_px, Pose& pose)
 {
+  std::vector<cv::Point3d> world_cv;
+  for (const auto& w : world)
+    world_cv.emplace_back(w.x(), w.y(), w.z());
   double rms = std::numeric_limits<double>::infinity();
   for (const int method : {cv::SOLVEPNP_IPPE, cv::SOLVEPNP_SQPNP})
   {
@@ -436,10 +438,7 @@ bool estimateInitialPose(const std::vector<Eigen::Vector2d>& corners_ideal_px, c
         }
         else
         {
-          std::vector<cv::Point3d> world_cv;
-          for (const auto& w : world)
-            world_cv.emplace_back(w.x(), w.y(), w.z());
-          rms = solveAssignment(world_cv, image_cv, K, poly.planar && n >= 4, k, corners_ideal_px, world,
+          rms = solveAssignment(world, image_cv, K, poly.planar && n >= 4, k, corners_ideal_px,
                                 params.max_reprojection_rms_px, pose);
           solved.push_back({world, pose, std::isfinite(rms)});
         }
