@@ -180,6 +180,7 @@ HoughLineDetector::HoughLineDetector(int width, int height, const HoughParams& p
   window_.resize(params.window_events);
   window_pixel_.assign(params.window_events, -1);
   window_t_.assign(params.window_events, 0);
+  window_bins_.assign(static_cast<size_t>(params.window_events) * num_theta_, -1);
   evidence_.resize(std::max(params.window_events, params.evidence_events));
   evidence_t_.assign(evidence_.size(), 0);
   in_window_.assign(static_cast<size_t>(width) * height, 0);
@@ -196,16 +197,23 @@ void HoughLineDetector::reset()
   activity_.reset();
 }
 
-void HoughLineDetector::vote(float x, float y, int increment, std::vector<int>& acc) const
+void HoughLineDetector::curveBins(float x, float y, int32_t* bins) const
 {
   const double xc = x - cx_, yc = y - cy_;
   for (int k = 0; k < num_theta_; ++k)
   {
     const double r = xc * cos_[k] + yc * sin_[k];
     const int rb = static_cast<int>((r + r_max_) / params_.radius_bin_px);
-    if (rb >= 0 && rb < num_r_)
-      acc[k * num_r_ + rb] += increment;
+    bins[k] = rb >= 0 && rb < num_r_ ? rb : -1;
   }
+}
+
+void HoughLineDetector::vote(const int32_t* bins, int increment, std::vector<int>& acc) const
+{
+  int* row = acc.data();
+  for (int k = 0; k < num_theta_; ++k, row += num_r_)
+    if (bins[k] >= 0)
+      row[bins[k]] += increment;
 }
 
 namespace
@@ -223,7 +231,7 @@ void HoughLineDetector::expireBefore(int64_t t_ns)
     const int oldest = ringSlot(window_head_, window_count_, capacity);
     if (window_t_[oldest] >= t_ns)
       break;
-    vote(window_[oldest].x(), window_[oldest].y(), -1, acc_);
+    vote(slotBins(oldest), -1, acc_);
     windowChanged();
     if (window_pixel_[oldest] >= 0)
       in_window_[window_pixel_[oldest]] = 0;
@@ -253,8 +261,7 @@ bool HoughLineDetector::addEvent(float x_ideal, float y_ideal, int sx, int sy, i
   const int capacity = static_cast<int>(window_.size());
   if (window_count_ == capacity)
   {
-    const Eigen::Vector2f& old = window_[window_head_];
-    vote(old.x(), old.y(), -1, acc_);
+    vote(slotBins(window_head_), -1, acc_);
     if (window_pixel_[window_head_] >= 0)
       in_window_[window_pixel_[window_head_]] = 0;
   }
@@ -265,8 +272,10 @@ bool HoughLineDetector::addEvent(float x_ideal, float y_ideal, int sx, int sy, i
   window_t_[window_head_] = t_ns;
   if (on_sensor)
     in_window_[pixel] = 1;
+  int32_t* bins = slotBins(window_head_);
+  curveBins(x_ideal, y_ideal, bins);
+  vote(bins, +1, acc_);
   window_head_ = (window_head_ + 1) % capacity;
-  vote(x_ideal, y_ideal, +1, acc_);
   windowChanged();
   evidence_[evidence_head_] = Eigen::Vector2f(x_ideal, y_ideal);
   evidence_t_[evidence_head_] = t_ns;
@@ -348,6 +357,7 @@ std::vector<ImageSegment> HoughLineDetector::detectSegments(Pass pass) const
     detected_generation_ = window_generation_;
     detected_by_ = this;
     detected_points_ = windowPoints();
+    detected_start_ = ringSlot(window_head_, window_count_, static_cast<int>(window_.size()));
     detected_bins_ = candidateBins();
     if (static_cast<int>(detected_bins_.size()) > params_.max_candidates)
       detected_bins_.resize(params_.max_candidates);
@@ -362,6 +372,7 @@ std::vector<ImageSegment> HoughLineDetector::detectSegments(Pass pass) const
   }
   const std::vector<Eigen::Vector2d>& points = detected_points_;
   const std::vector<std::pair<int, int>>& bins = detected_bins_;
+  const int capacity = static_cast<int>(window_.size());
 
   const double half_dtheta = 0.5 * M_PI / num_theta_;
   std::vector<ImageSegment> all;
@@ -488,7 +499,7 @@ std::vector<ImageSegment> HoughLineDetector::detectSegments(Pass pass) const
         if (explained_[i] || along < a0 - 1.0 || along > a1 + 1.0)
           continue;
         explained_[i] = 1;
-        vote(static_cast<float>(points[i].x()), static_cast<float>(points[i].y()), -1, fresh_votes_);
+        vote(slotBins((detected_start_ + i) % capacity), -1, fresh_votes_);
       }
     }
   }

@@ -366,6 +366,75 @@ TEST(Hough, ASecondDetectionOnTheSameWindowIsTheOneAFreshDetectorMakes)
   EXPECT_FALSE(same(after, progressive));
 }
 
+TEST(Hough, AWrappedWindowVotesAndDetectsAsAFreshDetectorFedItsEvents)
+{
+  // Each window slot keeps its event's curve bins from its vote, for the event's removal (the
+  // window slides, events expire by age) and for the progressive pass's removal of explained
+  // votes, whose points start anywhere in the ring. A detector fed only the window's events, in
+  // order, from an empty ring must hold the same votes and find the same segments.
+  HoughParams p;
+  p.neighbour_filter = false;
+  p.window_events = 700;
+  p.max_event_age_s = 0.5;
+  const auto same = [](const std::vector<ImageSegment>& a, const std::vector<ImageSegment>& b) {
+    if (a.size() != b.size())
+      return false;
+    for (size_t i = 0; i < a.size(); ++i)
+      if (a[i].p0 != b[i].p0 || a[i].p1 != b[i].p1 || a[i].num_events != b[i].num_events)
+        return false;
+    return true;
+  };
+  // Points beyond the sensor (ideal pixels of a barrel-distorted lens) leave some curves outside
+  // the accumulator at some angles.
+  const double ideal_radius = 120;
+  HoughLineDetector slid(128, 128, p, ideal_radius);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-40, 168);
+  auto noise = [&](int n, int64_t& t, int64_t dt) {
+    for (int i = 0; i < n; ++i, t += dt)
+      slid.addEvent(static_cast<float>(u(rng)), static_cast<float>(u(rng)), -1, -1, t);
+  };
+  int64_t t = 0;
+  noise(900, t, 1000000);  // 0-0.9 s: the ring wraps, and events older than 0.5 s expire
+  for (const auto& [a, b] : std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>>{
+           {{30, 30}, {90, 30}}, {{90, 30}, {90, 90}}, {{90, 90}, {30, 90}}, {{30, 90}, {30, 30}}})
+    addSegmentEvents(slid, a, b, t);  // a square: the full ring drops the oldest
+  t = 1200000000;
+  noise(30, t, 1000000);  // 1.2-1.23 s: the noise before 0.73 s expires by age
+  const std::vector<Eigen::Vector2d> window = slid.windowPoints();
+  ASSERT_GT(window.size(), 400u);
+  ASSERT_LT(window.size(), 700u);  // some expired by age
+  HoughLineDetector fresh(128, 128, p, ideal_radius);
+  int64_t tf = 0;
+  for (const auto& q : window)
+    fresh.addEvent(static_cast<float>(q.x()), static_cast<float>(q.y()), -1, -1, tf++);
+  int differing = 0, voted = 0;
+  for (int k = 0; k < slid.numAngleBins(); ++k)
+    for (int rb = 0; rb < slid.numRadiusBins(); ++rb)
+    {
+      differing += slid.votes(k, rb) != fresh.votes(k, rb);
+      voted += slid.votes(k, rb);
+    }
+  EXPECT_EQ(differing, 0);
+  EXPECT_GT(voted, 0);
+  const auto progressive = slid.detectSegments(true);
+  EXPECT_FALSE(progressive.empty());
+  EXPECT_TRUE(same(progressive, fresh.detectSegments(true)));
+  // The progressive pass took the votes of the same events out.
+  int explained = 0;
+  differing = 0;
+  for (int k = 0; k < slid.numAngleBins(); ++k)
+    for (int rb = 0; rb < slid.numRadiusBins(); ++rb)
+    {
+      differing += slid.unexplainedVotes(k, rb) != fresh.unexplainedVotes(k, rb);
+      explained += slid.votes(k, rb) - slid.unexplainedVotes(k, rb);
+    }
+  EXPECT_EQ(differing, 0);
+  EXPECT_GT(explained, 0);
+  EXPECT_TRUE(same(slid.detectSegments(HoughLineDetector::Pass::kRadiusPeaks),
+                   fresh.detectSegments(HoughLineDetector::Pass::kRadiusPeaks)));
+}
+
 TEST(Hough, ProgressiveVoteRemovalFindsTheSameSidesOfAThickSquare)
 {
   // Thick edges put many bins over the threshold along each side: with the found segments'

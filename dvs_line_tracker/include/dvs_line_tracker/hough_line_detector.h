@@ -90,6 +90,12 @@ public:
   int numAngleBins() const { return num_theta_; }
   int numRadiusBins() const { return num_r_; }
   int votes(int angle_bin, int radius_bin) const { return acc_[angle_bin * num_r_ + radius_bin]; }
+  /// The bin's votes from events none of the last progressive detection's segments explained
+  /// (all its votes before any progressive detection).
+  int unexplainedVotes(int angle_bin, int radius_bin) const
+  {
+    return fresh_votes_.empty() ? votes(angle_bin, radius_bin) : fresh_votes_[angle_bin * num_r_ + radius_bin];
+  }
   int numWindowEvents() const { return window_count_; }
   /// Line through the centre of a bin.
   ImageLine binLine(int angle_bin, int radius_bin) const;
@@ -132,8 +138,13 @@ public:
   bool radiusPeak(int angle_bin, int radius_bin) const;
 
 private:
-  /// Adds `increment` to the bins of the point's Hough curve in `acc`.
-  void vote(float x, float y, int increment, std::vector<int>& acc) const;
+  /// The radius bin of the point's Hough curve at each angle (-1: outside the accumulator).
+  void curveBins(float x, float y, int32_t* bins) const;
+  /// Adds `increment` to the bins `bins` (curveBins()) in `acc`.
+  void vote(const int32_t* bins, int increment, std::vector<int>& acc) const;
+  /// The curve bins of the event in window slot `slot` (computed once, when it was voted).
+  int32_t* slotBins(int slot) { return window_bins_.data() + static_cast<size_t>(slot) * num_theta_; }
+  const int32_t* slotBins(int slot) const { return window_bins_.data() + static_cast<size_t>(slot) * num_theta_; }
 
   HoughParams params_;
   int width_, height_;
@@ -148,6 +159,7 @@ private:
   std::vector<Eigen::Vector2f> window_;  // ring buffer of voted positions
   std::vector<int32_t> window_pixel_;    // their sensor pixel index (-1: none)
   std::vector<int64_t> window_t_;        // their times (ns)
+  std::vector<int32_t> window_bins_;     // their curves' radius bins, num_theta_ per slot
   std::vector<uint8_t> in_window_;       // per sensor pixel: already voting
   int window_head_ = 0, window_count_ = 0;
   std::vector<Eigen::Vector2f> evidence_;  // ring buffer of the latest voted positions
@@ -183,6 +195,7 @@ private:
   /// The detector the scratch was made by: a copy's index points into the original's points.
   mutable const HoughLineDetector* detected_by_ = nullptr;
   mutable std::vector<Eigen::Vector2d> detected_points_;
+  mutable int detected_start_ = 0;  ///< the window slot of detected_points_[0]
   mutable std::vector<std::pair<int, int>> detected_bins_;
   mutable std::vector<BinResult> bin_results_;
 };
