@@ -1,6 +1,7 @@
 #include <dvs_calibration/trajectory_file.h>
 #include <dvs_driver/checked_write.h>
 
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -94,7 +95,7 @@ void writeTumTrajectory(std::ostream& out, const Trajectory& poses, const std::s
 {
   if (!header.empty())
     out << "# " << header << "\n";
-  char buf[256];
+  std::string line;
   Eigen::Quaterniond previous(1, 0, 0, 0);
   for (const auto& sp : poses)
   {
@@ -105,10 +106,46 @@ void writeTumTrajectory(std::ostream& out, const Trajectory& poses, const std::s
     if (q.dot(previous) < 0)
       q.coeffs() = -q.coeffs();
     previous = q;
-    std::snprintf(buf, sizeof(buf), "%.9f %.9f %.9f %.9f %.9f %.9f %.9f %.9f\n", sp.t, p.x(), p.y(), p.z(), q.x(),
-                  q.y(), q.z(), q.w());
-    out << buf;
+    line.clear();
+    for (const double v : {sp.t, p.x(), p.y(), p.z(), q.x(), q.y(), q.z(), q.w()})
+    {
+      if (!line.empty())
+        line += ' ';
+      appendFixed(line, v, 9);
+    }
+    line += '\n';
+    out << line;
   }
+}
+
+void appendFixed(std::string& out, double v, int decimals)
+{
+  char buf[400];  // the longest double in fixed notation: 309 digits, a sign, a point, 17 decimals
+  decimals = decimals < 0 ? 0 : decimals > 17 ? 17 : decimals;
+  const std::to_chars_result r = std::to_chars(buf, buf + sizeof(buf), v, std::chars_format::fixed, decimals);
+  if (r.ec == std::errc())
+  {
+    out.append(buf, r.ptr);
+    return;
+  }
+  const int n = std::snprintf(buf, sizeof(buf), "%.*f", decimals, v);
+  out.append(buf, static_cast<size_t>(std::max(0, std::min<int>(n, sizeof(buf) - 1))));
+}
+
+void appendSeconds(std::string& out, int64_t t_ns)
+{
+  const bool negative = t_ns < 0;
+  const uint64_t a = negative ? static_cast<uint64_t>(-(t_ns + 1)) + 1 : static_cast<uint64_t>(t_ns);
+  char buf[32];
+  char* p = buf;
+  if (negative)
+    *p++ = '-';
+  p = std::to_chars(p, buf + sizeof(buf), a / 1000000000ULL).ptr;
+  *p++ = '.';
+  uint64_t fraction = a % 1000000000ULL;
+  for (int i = 8; i >= 0; --i, fraction /= 10)
+    p[i] = static_cast<char>('0' + fraction % 10);
+  out.append(buf, p + 9);
 }
 
 void writeTumTrajectory(const std::string& path, const Trajectory& poses, const std::string& header)

@@ -9,6 +9,8 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <limits>
+#include <random>
 #include <functional>
 #include <sstream>
 #include <string>
@@ -182,6 +184,56 @@ TEST(TrajectoryFile, WriteReadRoundTrip)
     EXPECT_LT(orientationError(back[i].T_world_camera, gt[i].T_world_camera), 1e-8);
   }
   std::remove(path.c_str());
+}
+
+TEST(TrajectoryFile, NumbersAreWrittenAsPrintfWritesThem)
+{
+  // appendFixed stands for printf("%.*f") in every trajectory writer: the same characters for
+  // random values of every magnitude, exact binary ties (round half to even), signed zeros and
+  // values beyond 1e300; appendSeconds for "%s%llu.%09llu" of a signed nanosecond count.
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> mantissa(-1, 1);
+  std::uniform_int_distribution<int> exponent(-12, 12), decimals(0, 17);
+  std::vector<double> values = {0.0, -0.0, 0.5, 1.5, 2.5, -2.5, 0.125, 0.375, 1e300, -1.7976931348623157e308,
+                                std::numeric_limits<double>::denorm_min(), 123456789.123456789,
+                                std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
+  for (int i = 0; i < 20000; ++i)
+    values.push_back(mantissa(rng) * std::pow(10.0, exponent(rng)));
+  int differing = 0;
+  for (size_t i = 0; i < values.size(); ++i)
+    for (const int d : {i < 14 ? 0 : decimals(rng), 6, 7, 9})
+    {
+      std::string ours;
+      appendFixed(ours, values[i], d);
+      std::vector<char> theirs(1024);
+      std::snprintf(theirs.data(), theirs.size(), "%.*f", d, values[i]);
+      if (ours != theirs.data() && ++differing <= 5)
+        ADD_FAILURE() << values[i] << " with " << d << " decimals: " << ours << " instead of " << theirs.data();
+    }
+  EXPECT_EQ(differing, 0);
+  std::string nan;
+  appendFixed(nan, std::numeric_limits<double>::quiet_NaN(), 6);
+  EXPECT_EQ(nan, "nan");
+
+  std::uniform_int_distribution<int64_t> ns(std::numeric_limits<int64_t>::min(), std::numeric_limits<int64_t>::max());
+  std::vector<int64_t> times = {0, 1, -1, 999999999, 1000000000, -1000000000, 12000000345,
+                                std::numeric_limits<int64_t>::min(), std::numeric_limits<int64_t>::max()};
+  for (int i = 0; i < 2000; ++i)
+    times.push_back(i % 2 ? ns(rng) : ns(rng) % 100000000000LL);
+  for (const int64_t t : times)
+  {
+    std::string ours;
+    appendSeconds(ours, t);
+    const bool negative = t < 0;
+    const uint64_t a = negative ? static_cast<uint64_t>(-(t + 1)) + 1 : static_cast<uint64_t>(t);
+    char theirs[64];
+    std::snprintf(theirs, sizeof(theirs), "%s%llu.%09llu", negative ? "-" : "",
+                  static_cast<unsigned long long>(a / 1000000000ULL), static_cast<unsigned long long>(a % 1000000000ULL));
+    EXPECT_EQ(ours, theirs) << t;
+  }
+  std::string s;
+  appendSeconds(s, -1);
+  EXPECT_EQ(s, "-0.000000001");
 }
 
 TEST(TrajectoryFile, MalformedLinesNameFileAndLine)

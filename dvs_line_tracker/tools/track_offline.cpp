@@ -4,6 +4,7 @@
 //   track_offline --events events.txt --calib calib.txt --map map.yaml --out trajectory.txt
 //   track_offline --bag in.bag [--topic /dvs/events] --camera-info cam.yaml --map map.yaml --out traj.txt
 #include <dvs_calibration/camera_model.h>
+#include <dvs_calibration/trajectory_file.h>
 #include <dvs_driver/aedat_reader.h>
 #include <dvs_driver/checked_write.h>
 #include <dvs_driver/command_line.h>
@@ -53,12 +54,9 @@ void usage()
 // Exact decimal seconds with nanosecond resolution.
 std::string formatSeconds(int64_t t_ns)
 {
-  char buf[40];
-  const bool negative = t_ns < 0;
-  const uint64_t a = negative ? static_cast<uint64_t>(-(t_ns + 1)) + 1 : static_cast<uint64_t>(t_ns);
-  std::snprintf(buf, sizeof(buf), "%s%llu.%09llu", negative ? "-" : "", static_cast<unsigned long long>(a / 1000000000ULL),
-                static_cast<unsigned long long>(a % 1000000000ULL));
-  return buf;
+  std::string s;
+  dvs_calibration::appendSeconds(s, t_ns);
+  return s;
 }
 
 struct Args
@@ -336,14 +334,31 @@ int main(int argc, char** argv)
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
     out.write(std::string("# t tx ty tz qx qy qz qw (T_world_camera, TUM), dvs_line_tracker\n"));
-    char line[160];
-    for (const auto& s : poses)
+    // Written in chunks of lines (std::to_chars; printf's format parsing was most of the
+    // writing, a third of the tool's time on a long recording).
+    std::string chunk;
+    for (size_t i = 0; i < poses.size(); ++i)
     {
+      const auto& s = poses[i];
       const Eigen::Vector3d p = s.pose.p_world_camera();
       const Eigen::Quaterniond q = s.pose.q_world_camera();
-      const int n = std::snprintf(line, sizeof(line), "%s %.6f %.6f %.6f %.7f %.7f %.7f %.7f\n",
-                                  formatSeconds(s.t_ns).c_str(), p.x(), p.y(), p.z(), q.x(), q.y(), q.z(), q.w());
-      out.write(line, static_cast<size_t>(std::min<int>(n, sizeof(line) - 1)));
+      dvs_calibration::appendSeconds(chunk, s.t_ns);
+      for (const double v : {p.x(), p.y(), p.z()})
+      {
+        chunk += ' ';
+        dvs_calibration::appendFixed(chunk, v, 6);
+      }
+      for (const double v : {q.x(), q.y(), q.z(), q.w()})
+      {
+        chunk += ' ';
+        dvs_calibration::appendFixed(chunk, v, 7);
+      }
+      chunk += '\n';
+      if (chunk.size() > (1u << 16) || i + 1 == poses.size())
+      {
+        out.write(chunk);
+        chunk.clear();
+      }
     }
     out.commit();
     if (odometry_out)

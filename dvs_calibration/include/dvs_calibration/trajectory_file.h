@@ -6,6 +6,7 @@
 // motion-capture export works as well.
 #include <dvs_calibration/pose.h>
 
+#include <cstdint>
 #include <iosfwd>
 #include <stdexcept>
 #include <string>
@@ -40,4 +41,11 @@ Trajectory readTumTrajectory(std::istream& in, const std::string& name,
 /// TrajectoryFileError when the file cannot be written.
 void writeTumTrajectory(const std::string& path, const Trajectory& poses, const std::string& header = "");
 void writeTumTrajectory(std::ostream& out, const Trajectory& poses, const std::string& header = "");
+
+/// Appends `v` in fixed notation with `decimals` (0-17) digits after the point, exactly as
+/// printf("%.*f") writes it, but without its format parsing and locale (std::to_chars: a
+/// trajectory of millions of poses is written several times faster).
+void appendFixed(std::string& out, double v, int decimals);
+/// Appends the exact decimal seconds of `t_ns` ("12.000000345", "-0.000000001").
+void appendSeconds(std::string& out, int64_t t_ns);
 }  // namespace dvs_calibration
