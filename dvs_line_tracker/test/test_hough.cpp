@@ -305,6 +305,20 @@ int matchedSides(const std::vector<ImageSegment>& segs, const std::vector<std::p
 }
 }  // namespace
 
+namespace
+{
+// The same segments, bit for bit, in the same order.
+bool sameSegments(const std::vector<ImageSegment>& a, const std::vector<ImageSegment>& b)
+{
+  if (a.size() != b.size())
+    return false;
+  for (size_t i = 0; i < a.size(); ++i)
+    if (a[i].p0 != b[i].p0 || a[i].p1 != b[i].p1 || a[i].num_events != b[i].num_events)
+      return false;
+  return true;
+}
+}  // namespace
+
 TEST(Hough, ASecondDetectionOnTheSameWindowIsTheOneAFreshDetectorMakes)
 {
   // The initialiser runs the full Hough right after the progressive one on the same window, and
@@ -313,14 +327,6 @@ TEST(Hough, ASecondDetectionOnTheSameWindowIsTheOneAFreshDetectorMakes)
   // makes the window new.
   HoughParams p;
   p.neighbour_filter = false;
-  const auto same = [](const std::vector<ImageSegment>& a, const std::vector<ImageSegment>& b) {
-    if (a.size() != b.size())
-      return false;
-    for (size_t i = 0; i < a.size(); ++i)
-      if (a[i].p0 != b[i].p0 || a[i].p1 != b[i].p1 || a[i].num_events != b[i].num_events)
-        return false;
-    return true;
-  };
   HoughLineDetector reused(128, 128, p);
   addThickSquare(reused, 30, 30, 60);
   const auto progressive = reused.detectSegments(true);
@@ -330,14 +336,14 @@ TEST(Hough, ASecondDetectionOnTheSameWindowIsTheOneAFreshDetectorMakes)
   {
     HoughLineDetector fresh(128, 128, p);
     addThickSquare(fresh, 30, 30, 60);
-    EXPECT_TRUE(same(full, fresh.detectSegments(false)));
-    EXPECT_TRUE(same(full_again, full));
+    EXPECT_TRUE(sameSegments(full, fresh.detectSegments(false)));
+    EXPECT_TRUE(sameSegments(full_again, full));
     HoughLineDetector fresh_peaks(128, 128, p);
     addThickSquare(fresh_peaks, 30, 30, 60);
-    EXPECT_TRUE(same(peaks, fresh_peaks.detectSegments(HoughLineDetector::Pass::kRadiusPeaks)));
+    EXPECT_TRUE(sameSegments(peaks, fresh_peaks.detectSegments(HoughLineDetector::Pass::kRadiusPeaks)));
     HoughLineDetector fresh_progressive(128, 128, p);
     addThickSquare(fresh_progressive, 30, 30, 60);
-    EXPECT_TRUE(same(progressive, fresh_progressive.detectSegments(true)));
+    EXPECT_TRUE(sameSegments(progressive, fresh_progressive.detectSegments(true)));
   }
   // A copy detects on its own points (the original it was copied from may be gone by then:
   // without its own scratch, the copy read the freed points).
@@ -352,7 +358,7 @@ TEST(Hough, ASecondDetectionOnTheSameWindowIsTheOneAFreshDetectorMakes)
       addThickSquare(*original, 10, 50, 40);
       original->detectSegments(false);
     }
-    EXPECT_TRUE(same(copy->detectSegments(false), full));
+    EXPECT_TRUE(sameSegments(copy->detectSegments(false), full));
   }
   // A new side voted in: the next detection sees it.
   int64_t t = 0;
@@ -362,8 +368,8 @@ TEST(Hough, ASecondDetectionOnTheSameWindowIsTheOneAFreshDetectorMakes)
   addThickSquare(fresh, 30, 30, 60);
   t = 0;
   addSegmentEvents(fresh, {10, 110}, {110, 110}, t);
-  EXPECT_TRUE(same(after, fresh.detectSegments(true)));
-  EXPECT_FALSE(same(after, progressive));
+  EXPECT_TRUE(sameSegments(after, fresh.detectSegments(true)));
+  EXPECT_FALSE(sameSegments(after, progressive));
 }
 
 TEST(Hough, AWrappedWindowVotesAndDetectsAsAFreshDetectorFedItsEvents)
@@ -376,14 +382,6 @@ TEST(Hough, AWrappedWindowVotesAndDetectsAsAFreshDetectorFedItsEvents)
   p.neighbour_filter = false;
   p.window_events = 700;
   p.max_event_age_s = 0.5;
-  const auto same = [](const std::vector<ImageSegment>& a, const std::vector<ImageSegment>& b) {
-    if (a.size() != b.size())
-      return false;
-    for (size_t i = 0; i < a.size(); ++i)
-      if (a[i].p0 != b[i].p0 || a[i].p1 != b[i].p1 || a[i].num_events != b[i].num_events)
-        return false;
-    return true;
-  };
   // Points beyond the sensor (ideal pixels of a barrel-distorted lens) leave some curves outside
   // the accumulator at some angles.
   const double ideal_radius = 120;
@@ -419,7 +417,7 @@ TEST(Hough, AWrappedWindowVotesAndDetectsAsAFreshDetectorFedItsEvents)
   EXPECT_GT(voted, 0);
   const auto progressive = slid.detectSegments(true);
   EXPECT_FALSE(progressive.empty());
-  EXPECT_TRUE(same(progressive, fresh.detectSegments(true)));
+  EXPECT_TRUE(sameSegments(progressive, fresh.detectSegments(true)));
   // The progressive pass took the votes of the same events out.
   int explained = 0;
   differing = 0;
@@ -431,7 +429,7 @@ TEST(Hough, AWrappedWindowVotesAndDetectsAsAFreshDetectorFedItsEvents)
     }
   EXPECT_EQ(differing, 0);
   EXPECT_GT(explained, 0);
-  EXPECT_TRUE(same(slid.detectSegments(HoughLineDetector::Pass::kRadiusPeaks),
+  EXPECT_TRUE(sameSegments(slid.detectSegments(HoughLineDetector::Pass::kRadiusPeaks),
                    fresh.detectSegments(HoughLineDetector::Pass::kRadiusPeaks)));
 }
 
