@@ -22,17 +22,31 @@ void projectAlongNormal(const PinholeK& k, const Eigen::Vector3d& p, const Eigen
 bool linearizeSegment(const PinholeK& k, const Pose& pose, const Eigen::Vector3d& p0_world,
                       const Eigen::Vector3d& p1_world, const SegmentBuffer& buffer, SegmentNormalEquations& out)
 {
-  const Eigen::Vector3d pc0 = pose.toCamera(p0_world), pc1 = pose.toCamera(p1_world);
-  const bool front = pc0.z() >= kMinLinearizationDepth && pc1.z() >= kMinLinearizationDepth;
-  return linearizeSegment(k, pc0, pc1, front ? k.project(pc0) : Eigen::Vector2d::Zero(),
-                          front ? k.project(pc1) : Eigen::Vector2d::Zero(), buffer, out);
+  return linearizeSegment(k, pose, p0_world, p1_world, buffer.moments(), buffer.size(), out);
 }
 
 bool linearizeSegment(const PinholeK& k, const Eigen::Vector3d& pc0, const Eigen::Vector3d& pc1,
                       const Eigen::Vector2d& a, const Eigen::Vector2d& b, const SegmentBuffer& buffer,
                       SegmentNormalEquations& out)
 {
-  out.num_points = buffer.size();
+  return linearizeSegment(k, pc0, pc1, a, b, buffer.moments(), buffer.size(), out);
+}
+
+bool linearizeSegment(const PinholeK& k, const Pose& pose, const Eigen::Vector3d& p0_world,
+                      const Eigen::Vector3d& p1_world, const PointMoments& moments, int num_points,
+                      SegmentNormalEquations& out)
+{
+  const Eigen::Vector3d pc0 = pose.toCamera(p0_world), pc1 = pose.toCamera(p1_world);
+  const bool front = pc0.z() >= kMinLinearizationDepth && pc1.z() >= kMinLinearizationDepth;
+  return linearizeSegment(k, pc0, pc1, front ? k.project(pc0) : Eigen::Vector2d::Zero(),
+                          front ? k.project(pc1) : Eigen::Vector2d::Zero(), moments, num_points, out);
+}
+
+bool linearizeSegment(const PinholeK& k, const Eigen::Vector3d& pc0, const Eigen::Vector3d& pc1,
+                      const Eigen::Vector2d& a, const Eigen::Vector2d& b, const PointMoments& moments,
+                      int num_points, SegmentNormalEquations& out)
+{
+  out.num_points = num_points;
   // Zeroed only when nothing is linearised: on success every entry is written below.
   auto none = [&out] {
     out.H.setZero();
@@ -44,7 +58,7 @@ bool linearizeSegment(const PinholeK& k, const Eigen::Vector3d& pc0, const Eigen
     return none();
   const Eigen::Vector2d e = b - a;
   const double len = e.norm();
-  if (len < 1e-6 || buffer.size() < 2)
+  if (len < 1e-6 || num_points < 2)
     return none();
   const Eigen::Vector2d ehat = e / len;
   const Eigen::Vector2d n(-ehat.y(), ehat.x());
@@ -53,7 +67,7 @@ bool linearizeSegment(const PinholeK& k, const Eigen::Vector3d& pc0, const Eigen
   // all points. H and g need only the weighted sums of 1, s, s^2, r, r s, which follow from the
   // buffer's raw moments: with d_i = p_i - a, sum w d = m1 - W a and sum w d d^T = M2 - m1 a^T -
   // a m1^T + W a a^T.
-  const PointMoments& m = buffer.moments();
+  const PointMoments& m = moments;
   const Eigen::Vector2d m1(m.x, m.y);
   const Eigen::Vector2d d1 = m1 - m.w * a;
   Eigen::Matrix2d M2;

@@ -683,22 +683,33 @@ Pose TrackerInitializer::refineWithWindowEvents(const Pose& initial, const Recen
   const size_t n = map.segments.size();
   Pose pose = initial;
   std::vector<SegmentNormalEquations> eqs(n);
+  // Each segment's attributed points enter its normal equations only through their weighted
+  // moments (pose_estimator.h): no buffer of the points themselves.
+  std::vector<PointMoments> moments(n);
+  std::vector<int> counts(n);
+  const double huber = params_.estimator.huber_px;
   for (int it = 0; it < 8; ++it)
   {
-    std::vector<SegmentBuffer> buffers(n, SegmentBuffer(static_cast<int>(points.size())));
+    std::fill(moments.begin(), moments.end(), PointMoments());
+    std::fill(counts.begin(), counts.end(), 0);
     const std::vector<ProjectedSegment> proj = projectedMap(pose);
     for (const auto& p : points)
     {
       int segs[2];
       const int m = attributeEvent(p, proj.data(), static_cast<int>(n), window_attribution_, segs);
       for (int j = 0; j < m; ++j)
-        buffers[segs[j]].insert(p, proj[segs[j]], 1e300, 1e300, 1e300, params_.estimator.huber_px);
+      {
+        // The Huber weight of the point's distance to the projected line.
+        const double offset = std::abs(proj[segs[j]].normal.dot(p - proj[segs[j]].a));
+        moments[segs[j]].add(p, offset <= huber ? 1.0 : huber / offset);
+        ++counts[segs[j]];
+      }
     }
     int used = 0;
     for (size_t i = 0; i < n; ++i)
     {
-      eqs[i].active = buffers[i].size() >= 5 && linearizeSegment(geometry_.k, pose, map.segments[i].p0_world,
-                                                                 map.segments[i].p1_world, buffers[i], eqs[i]);
+      eqs[i].active = counts[i] >= 5 && linearizeSegment(geometry_.k, pose, map.segments[i].p0_world,
+                                                         map.segments[i].p1_world, moments[i], counts[i], eqs[i]);
       eqs[i].x_lin.setZero();
       used += eqs[i].active ? 1 : 0;
     }

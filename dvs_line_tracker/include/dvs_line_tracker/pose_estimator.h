@@ -59,6 +59,14 @@ bool linearizeSegment(const PinholeK& k, const Pose& pose, const Eigen::Vector3d
 bool linearizeSegment(const PinholeK& k, const Eigen::Vector3d& pc0, const Eigen::Vector3d& pc1,
                       const Eigen::Vector2d& a, const Eigen::Vector2d& b, const SegmentBuffer& buffer,
                       SegmentNormalEquations& out);
+/// The same from the weighted moments of `num_points` points (what a buffer keeps; a one-off
+/// fit needs no buffer, e.g. the initialiser's refinement).
+bool linearizeSegment(const PinholeK& k, const Pose& pose, const Eigen::Vector3d& p0_world,
+                      const Eigen::Vector3d& p1_world, const PointMoments& moments, int num_points,
+                      SegmentNormalEquations& out);
+bool linearizeSegment(const PinholeK& k, const Eigen::Vector3d& pc0, const Eigen::Vector3d& pc1,
+                      const Eigen::Vector2d& a, const Eigen::Vector2d& b, const PointMoments& moments,
+                      int num_points, SegmentNormalEquations& out);
 
 /// Solve the damped normal equations of the active segments at the accumulated increment
 /// `x_now`. Returns false when there is nothing to solve.
