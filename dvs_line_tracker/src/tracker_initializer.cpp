@@ -190,7 +190,7 @@ bool TrackerInitializer::tryPrior(const StartTracking& start)
   }
   ++stats_.prior_attempts;
   const RecentEvents recent = recentEvents();
-  const Pose pose = refineWithWindowEvents(prior_, recent);
+  const Pose pose = refinePrior(recent);
   if (sideCoverage(pose, recent).min_fraction < params_.init_min_coverage)
     return false;
   prior_ = pose;  // follow the camera while the evidence holds
@@ -674,8 +674,30 @@ TrackerInitializer::RecentEvents TrackerInitializer::recentEvents() const
   return r;
 }
 
+Pose TrackerInitializer::refinePrior(const RecentEvents& recent) const
+{
+  // Coarse to fine: the camera moved while the track was lost, often further than the Hough's
+  // attribution distance (BENCHMARKS.md, thirty-third session).
+  const double fine = window_attribution_.max_orthogonal_px;
+  int stages = 0;
+  while (stages < 16 && params_.reacquire_capture_px / (1 << stages) > fine * 1.01)
+    ++stages;
+  Pose refined = prior_;
+  for (int k = 0; k < stages; ++k)
+    refined = refineWithWindowEvents(refined, recent, params_.reacquire_capture_px / (1 << k));
+  return refineWithWindowEvents(refined, recent, fine);
+}
+
 Pose TrackerInitializer::refineWithWindowEvents(const Pose& initial, const RecentEvents& recent) const
 {
+  return refineWithWindowEvents(initial, recent, window_attribution_.max_orthogonal_px);
+}
+
+Pose TrackerInitializer::refineWithWindowEvents(const Pose& initial, const RecentEvents& recent,
+                                                double distance_px) const
+{
+  AttributionParams attribution = window_attribution_;
+  attribution.max_orthogonal_px = distance_px;
   // The latest window events near the projected map segments pull the corner-based pose onto
   // all edge events (point-to-line Gauss-Newton, re-attributing every iteration).
   const std::vector<Eigen::Vector2d>& points = recent.refine;
@@ -696,7 +718,7 @@ Pose TrackerInitializer::refineWithWindowEvents(const Pose& initial, const Recen
     for (const auto& p : points)
     {
       int segs[2];
-      const int m = attributeEvent(p, proj.data(), static_cast<int>(n), window_attribution_, segs);
+      const int m = attributeEvent(p, proj.data(), static_cast<int>(n), attribution, segs);
       for (int j = 0; j < m; ++j)
       {
         // The Huber weight of the point's distance to the projected line.

@@ -53,6 +53,9 @@ dvs_driver::ParamTable trackerParamTable(LineTrackerParams& p, std::string& solv
         "a slow scene's window otherwise still holds what the camera saw seconds before");
   t.add("reacquire_prior", p.reacquire_prior_s, "s", 0, 3600,
         "after a loss, the last tracked pose is tried first for this long (0: off)");
+  t.add("reacquire_capture_px", p.reacquire_capture_px, "px", 0, 1000,
+        "the prior is refined on the window events this close to its projected map first, then half as close, "
+        "down to hough_attribution_distance_px (0: only at that distance)");
   t.add("max_event_gap", p.max_event_gap_s, "s", 0, 3600,
         "a longer gap between events makes the pose stale (lost, re-acquired) or, with a healthy IMU, is bridged by it (0: off)");
   t.add("init_check_interval", p.init_check_interval, "events", 1, 10000000, "voted events between detection attempts");

@@ -378,6 +378,23 @@ TEST(Reacquire, AnOccludedSideKeepsTheTrack)
   EXPECT_GE(r.tracked_after, 0.97);
 }
 
+// A 0.51 s blackout while hand-held (128x128, scene 112): the camera moved further than the
+// Hough's attribution distance meanwhile. The prior refined from its capture range
+// (reacquire_capture_px) covers the map's sides again and confirms the first detection: the
+// track is back 0.017 s after the edges fire again. Refined at the Hough's distance only, the
+// prior never covers them, and a second detection confirms the first: 0.049 s.
+TEST(Reacquire, ThePriorCapturesACameraThatMovedDuringABlackout)
+{
+  const ReacquireResult captured = expectReacquires(112);
+  LineTrackerParams no_capture;
+  no_capture.reacquire_capture_px = 0;
+  const ReacquireResult fine = runReacquireScene(buildReacquireScene(sweepScene(112)), 112, no_capture);
+  ASSERT_GE(fine.back_after_s, 0.0);
+  EXPECT_EQ(fine.false_reinitializations, 0);
+  EXPECT_LT(captured.back_after_s + 0.01, fine.back_after_s);
+  EXPECT_LT(captured.init_stats.attempts, fine.init_stats.attempts);
+}
+
 // Blackout, occlusion, bump and the map leaving the view, on scenes of each motion class.
 TEST(Reacquire, AfterABlackout) { expectReacquires(4); }
 TEST(Reacquire, AfterAnOcclusion) { expectReacquires(9); }

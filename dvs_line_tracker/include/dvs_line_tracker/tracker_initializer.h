@@ -155,6 +155,11 @@ private:
   /// The wide turn bounds reach beyond polygon_min/max_angle_deg.
   bool wideTurnsEnabled() const;
   Pose refineWithWindowEvents(const Pose& initial, const RecentEvents& recent) const;
+  /// The same, attributing the events at `distance_px` instead of the Hough's distance.
+  Pose refineWithWindowEvents(const Pose& initial, const RecentEvents& recent, double distance_px) const;
+  /// The prior refined on the window events from its capture range (reacquire_capture_px) down,
+  /// halving it, to the Hough's attribution distance.
+  Pose refinePrior(const RecentEvents& recent) const;
   struct Coverage
   {
     double min_fraction = 0;   ///< smallest covered fraction over the visible map segments

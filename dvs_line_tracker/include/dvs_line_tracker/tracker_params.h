@@ -92,6 +92,10 @@ struct LineTrackerParams
   /// After a loss the last tracked pose is tried first (refined on the recent events, validated
   /// like a detection) for this long [s]: re-acquisition without a whole polygon in view. 0: off.
   double reacquire_prior_s = 2.0;
+  /// The prior's capture range [px]: it is refined on the window events within this distance of
+  /// its projected map first, then within half of it, ... down to hough_attribution_distance_px
+  /// (the camera moved while the track was lost). 0: only at the Hough's distance.
+  double reacquire_capture_px = 4.0;
   /// While tracking, an event gap longer than this [s] (a blackout: a real sensor's background
   /// activity alone fires every few ms) makes the pose stale: the track is declared lost and
   /// re-acquired (the last pose tried first); with a healthy IMU (imu_propagator.h) the IMU
