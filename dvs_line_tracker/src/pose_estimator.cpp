@@ -20,19 +20,6 @@ void projectAlongNormal(const PinholeK& k, const Eigen::Vector3d& p, const Eigen
 }
 
 bool linearizeSegment(const PinholeK& k, const Pose& pose, const Eigen::Vector3d& p0_world,
-                      const Eigen::Vector3d& p1_world, const SegmentBuffer& buffer, SegmentNormalEquations& out)
-{
-  return linearizeSegment(k, pose, p0_world, p1_world, buffer.moments(), buffer.size(), out);
-}
-
-bool linearizeSegment(const PinholeK& k, const Eigen::Vector3d& pc0, const Eigen::Vector3d& pc1,
-                      const Eigen::Vector2d& a, const Eigen::Vector2d& b, const SegmentBuffer& buffer,
-                      SegmentNormalEquations& out)
-{
-  return linearizeSegment(k, pc0, pc1, a, b, buffer.moments(), buffer.size(), out);
-}
-
-bool linearizeSegment(const PinholeK& k, const Pose& pose, const Eigen::Vector3d& p0_world,
                       const Eigen::Vector3d& p1_world, const PointMoments& moments, int num_points,
                       SegmentNormalEquations& out)
 {

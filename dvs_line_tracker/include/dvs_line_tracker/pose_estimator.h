@@ -52,21 +52,27 @@ void projectAlongNormal(const PinholeK& k, const Eigen::Vector3d& p_cam, const E
 /// buffer's weighted moments (O(1), whatever the buffer size; the Huber weights were fixed when
 /// the points were inserted, stale points are removed by the buffer's motion bound). Returns
 /// false when the segment is behind the camera, degenerate, or has fewer than 2 points.
-bool linearizeSegment(const PinholeK& k, const Pose& pose, const Eigen::Vector3d& p0_world,
-                      const Eigen::Vector3d& p1_world, const SegmentBuffer& buffer, SegmentNormalEquations& out);
-/// The same from the segment's endpoints already in the camera frame (`pc0`, `pc1`) and their
-/// pixels (`a`, `b`: k.project of them, needed only when both lie in front).
-bool linearizeSegment(const PinholeK& k, const Eigen::Vector3d& pc0, const Eigen::Vector3d& pc1,
-                      const Eigen::Vector2d& a, const Eigen::Vector2d& b, const SegmentBuffer& buffer,
-                      SegmentNormalEquations& out);
-/// The same from the weighted moments of `num_points` points (what a buffer keeps; a one-off
-/// fit needs no buffer, e.g. the initialiser's refinement).
+/// (From the weighted moments of `num_points` points: what a buffer keeps; a one-off fit needs
+/// no buffer, e.g. the initialiser's refinement.)
 bool linearizeSegment(const PinholeK& k, const Pose& pose, const Eigen::Vector3d& p0_world,
                       const Eigen::Vector3d& p1_world, const PointMoments& moments, int num_points,
                       SegmentNormalEquations& out);
+inline bool linearizeSegment(const PinholeK& k, const Pose& pose, const Eigen::Vector3d& p0_world,
+                             const Eigen::Vector3d& p1_world, const SegmentBuffer& buffer, SegmentNormalEquations& out)
+{
+  return linearizeSegment(k, pose, p0_world, p1_world, buffer.moments(), buffer.size(), out);
+}
+/// The same from the segment's endpoints already in the camera frame (`pc0`, `pc1`) and their
+/// pixels (`a`, `b`: k.project of them, needed only when both lie in front).
 bool linearizeSegment(const PinholeK& k, const Eigen::Vector3d& pc0, const Eigen::Vector3d& pc1,
                       const Eigen::Vector2d& a, const Eigen::Vector2d& b, const PointMoments& moments,
                       int num_points, SegmentNormalEquations& out);
+inline bool linearizeSegment(const PinholeK& k, const Eigen::Vector3d& pc0, const Eigen::Vector3d& pc1,
+                             const Eigen::Vector2d& a, const Eigen::Vector2d& b, const SegmentBuffer& buffer,
+                             SegmentNormalEquations& out)
+{
+  return linearizeSegment(k, pc0, pc1, a, b, buffer.moments(), buffer.size(), out);
+}
 
 /// Solve the damped normal equations of the active segments at the accumulated increment
 /// `x_now`. Returns false when there is nothing to solve.
