@@ -678,13 +678,12 @@ Pose TrackerInitializer::refinePrior(const RecentEvents& recent) const
 {
   // Coarse to fine: the camera moved while the track was lost, often further than the Hough's
   // attribution distance (BENCHMARKS.md, thirty-third session).
+  // (At most 16 coarse stages, however small the Hough's distance.)
   const double fine = window_attribution_.max_orthogonal_px;
-  int stages = 0;
-  while (stages < 16 && params_.reacquire_capture_px / (1 << stages) > fine * 1.01)
-    ++stages;
   Pose refined = prior_;
-  for (int k = 0; k < stages; ++k)
-    refined = refineWithWindowEvents(refined, recent, params_.reacquire_capture_px / (1 << k));
+  double distance = params_.reacquire_capture_px;
+  for (int stage = 0; stage < 16 && distance > fine * 1.01; ++stage, distance /= 2)
+    refined = refineWithWindowEvents(refined, recent, distance);
   return refineWithWindowEvents(refined, recent, fine);
 }
 
@@ -721,9 +720,7 @@ Pose TrackerInitializer::refineWithWindowEvents(const Pose& initial, const Recen
       const int m = attributeEvent(p, proj.data(), static_cast<int>(n), attribution, segs);
       for (int j = 0; j < m; ++j)
       {
-        // The Huber weight of the point's distance to the projected line.
-        const double offset = std::abs(proj[segs[j]].normal.dot(p - proj[segs[j]].a));
-        moments[segs[j]].add(p, offset <= huber ? 1.0 : huber / offset);
+        moments[segs[j]].add(p, huberWeight(proj[segs[j]].normal.dot(p - proj[segs[j]].a), huber));
         ++counts[segs[j]];
       }
     }

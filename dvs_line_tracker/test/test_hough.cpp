@@ -303,10 +303,7 @@ int matchedSides(const std::vector<ImageSegment>& segs, const std::vector<std::p
       }
   return matched;
 }
-}  // namespace
 
-namespace
-{
 // The same segments, bit for bit, in the same order.
 bool sameSegments(const std::vector<ImageSegment>& a, const std::vector<ImageSegment>& b)
 {

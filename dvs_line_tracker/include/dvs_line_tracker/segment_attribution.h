@@ -124,6 +124,13 @@ inline int attributeEvent(const Eigen::Vector2d& p, const ProjectedSegment* segs
   return n;
 }
 
+/// The Huber weight of a point `offset` px from its line (1 within `huber_px`, huber_px / |offset| beyond).
+inline double huberWeight(double offset, double huber_px)
+{
+  const double d = std::abs(offset);
+  return d <= huber_px ? 1.0 : huber_px / d;
+}
+
 /// Weighted raw moments of a buffer's points, kept up to date on every change so that a
 /// segment's normal equations cost O(1) whatever the buffer size (pose_estimator.cpp).
 struct PointMoments
@@ -202,7 +209,7 @@ public:
   {
     ++clock_;
     const double offset_new = seg.normal.dot(p - seg.a);
-    const double weight_new = std::abs(offset_new) <= huber_px ? 1.0 : huber_px / std::abs(offset_new);
+    const double weight_new = huberWeight(offset_new, huber_px);
     // Drop the events the line has moved away from (as expire() does: a dropped event is
     // replaced by the last one), then, in a full buffer, find the replacement among the others.
     // (A buffer that is not full needs no candidates: then only the expiry, if any.)
