@@ -361,7 +361,8 @@ std::vector<ImageSegment> HoughLineDetector::detectSegments(Pass pass) const
     detected_bins_ = candidateBins();
     if (static_cast<int>(detected_bins_.size()) > params_.max_candidates)
       detected_bins_.resize(params_.max_candidates);
-    index_.reset(detected_points_);
+    // The index sorts the points by the curve bins they voted with (the same radius grid).
+    index_.reset(detected_points_, {window_bins_.data(), num_theta_, detected_start_, static_cast<int>(window_.size())});
     if (bin_results_.size() < detected_bins_.size())
       bin_results_.resize(detected_bins_.size());
     for (size_t j = 0; j < detected_bins_.size(); ++j)

@@ -22,9 +22,14 @@ LinePointIndex::LinePointIndex(int num_angles, double r_max, double bucket_px, c
   offsets_.assign(static_cast<size_t>(num_angles) * (num_buckets_ + 1), 0);
 }
 
-void LinePointIndex::reset(const std::vector<Eigen::Vector2d>& points)
+void LinePointIndex::reset(const std::vector<Eigen::Vector2d>& points, const KnownBuckets& known)
 {
   points_ = &points;
+  known_ = known;
+  if (known_.bins != nullptr &&
+      (known_.stride < num_angles_ || known_.capacity < static_cast<int>(points.size()) || known_.start < 0 ||
+       known_.start >= std::max(known_.capacity, 1)))
+    throw std::invalid_argument("LinePointIndex: known buckets must cover every point at every angle");
   std::fill(built_.begin(), built_.end(), 0);
   if (sorted_.size() < static_cast<size_t>(num_angles_) * points.size())
     sorted_.resize(static_cast<size_t>(num_angles_) * points.size());
@@ -41,19 +46,46 @@ int LinePointIndex::anglesBuilt() const
   return static_cast<int>(std::count(built_.begin(), built_.end(), 1));
 }
 
+int LinePointIndex::bucketAt(int k, const Eigen::Vector2d& p) const
+{
+  const double r = (p.x() - centre_.x()) * cos_[k] + (p.y() - centre_.y()) * sin_[k];
+  return std::clamp(static_cast<int>(std::floor((r + r_max_) / bucket_px_)), 0, num_buckets_ - 1);
+}
+
 void LinePointIndex::build(int k)
 {
   const std::vector<Eigen::Vector2d>& points = *points_;
   const int n = static_cast<int>(points.size());
   int* offsets = offsets_.data() + static_cast<size_t>(k) * (num_buckets_ + 1);
   std::fill(offsets, offsets + num_buckets_ + 1, 0);
-  for (int i = 0; i < n; ++i)
+  if (known_.bins != nullptr)
   {
-    const double r = (points[i].x() - centre_.x()) * cos_[k] + (points[i].y() - centre_.y()) * sin_[k];
-    const int b = std::clamp(static_cast<int>(std::floor((r + r_max_) / bucket_px_)), 0, num_buckets_ - 1);
-    bucket_of_[i] = b;
-    ++offsets[b + 1];
+    // The caller's buckets (a point whose radius the queries compare is bucketed by the same
+    // formula; a bucket off by a rounding would still be inside a query's margin).
+    const int32_t* slot_bins = known_.bins + static_cast<size_t>(known_.start) * known_.stride + k;
+    int slot = known_.start;
+    for (int i = 0; i < n; ++i)
+    {
+      const int known = *slot_bins;
+      const int b = known >= 0 && known < num_buckets_ ? known : bucketAt(k, points[i]);
+      bucket_of_[i] = b;
+      ++offsets[b + 1];
+      if (++slot == known_.capacity)
+      {
+        slot = 0;
+        slot_bins = known_.bins + k;
+      }
+      else
+        slot_bins += known_.stride;
+    }
   }
+  else
+    for (int i = 0; i < n; ++i)
+    {
+      const int b = bucketAt(k, points[i]);
+      bucket_of_[i] = b;
+      ++offsets[b + 1];
+    }
   std::partial_sum(offsets, offsets + num_buckets_ + 1, offsets);
   int* sorted = sorted_.data() + static_cast<size_t>(k) * n;
   // Stable placement (each bucket keeps the points' order), each bucket's start serving as its

@@ -113,3 +113,48 @@ TEST(LinePointIndex, PointsBeyondTheRadiusRangeAndDegenerateQueries)
   EXPECT_THROW(LinePointIndex(0, kRMax, kBucket, kCentre), std::invalid_argument);
   EXPECT_THROW(LinePointIndex(24, kRMax, 0.0, kCentre), std::invalid_argument);
 }
+
+TEST(LinePointIndex, KnownBucketsFromARingGiveTheQueriesOfComputedOnes)
+{
+  // A Hough window's ring of curve bins (24 per slot, written from slot 1300 on and wrapped at
+  // 1500), with -1 where a point's radius left the grid: the queries must return exactly what
+  // an index that computes every bucket returns. A wrong slot or angle of the ring fails this.
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> coord(-60, 190), angle(-7, 7), offset(-70, 70), width(0, 0.2);
+  const int angles = 24, capacity = 1500, start = 1300;
+  std::vector<Eigen::Vector2d> points(1400);
+  for (auto& p : points)
+    p = {coord(rng), coord(rng)};
+  std::vector<int32_t> ring(static_cast<size_t>(capacity) * angles, -7);
+  const int buckets = static_cast<int>(std::ceil(2 * kRMax / kBucket));
+  int outside = 0;
+  for (size_t i = 0; i < points.size(); ++i)
+  {
+    const int slot = static_cast<int>((start + i) % capacity);
+    for (int k = 0; k < angles; ++k)
+    {
+      const double th = k * M_PI / angles;
+      const double r = (points[i].x() - kCentre.x()) * std::cos(th) + (points[i].y() - kCentre.y()) * std::sin(th);
+      const int rb = static_cast<int>((r + kRMax) / kBucket);
+      ring[static_cast<size_t>(slot) * angles + k] = rb >= 0 && rb < buckets ? rb : -1;
+      outside += rb >= 0 && rb < buckets ? 0 : 1;
+    }
+  }
+  ASSERT_GT(outside, 100);  // the points reach beyond the grid at some angles
+  LinePointIndex computed(angles, kRMax, kBucket, kCentre), known(angles, kRMax, kBucket, kCentre);
+  computed.reset(points);
+  known.reset(points, {ring.data(), angles, start, capacity});
+  std::vector<int> a, b;
+  for (int q = 0; q < 600; ++q)
+  {
+    const double theta = angle(rng), half = q % 2 ? width(rng) : 0.0;
+    const double r = offset(rng);
+    computed.candidates(theta, r - 1.25, r + 1.25, half, a);
+    known.candidates(theta, r - 1.25, r + 1.25, half, b);
+    ASSERT_EQ(a, b) << "query " << q;
+  }
+  EXPECT_EQ(known.anglesBuilt(), angles);
+  // Buckets that cannot cover the points are refused.
+  EXPECT_THROW(known.reset(points, {ring.data(), angles, start, 1000}), std::invalid_argument);
+  EXPECT_THROW(known.reset(points, {ring.data(), 12, start, capacity}), std::invalid_argument);
+}

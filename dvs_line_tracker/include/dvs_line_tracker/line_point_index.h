@@ -19,9 +19,22 @@ public:
   /// [-r_max, r_max] measured from `centre` (points beyond go to the end buckets).
   LinePointIndex(int num_angles, double r_max, double bucket_px, const Eigen::Vector2d& centre);
 
+  /// Buckets the caller computed already (a Hough detector's curve bins, hough_line_detector.h):
+  /// point i's bucket at angle k is bins[((start + i) % capacity) * stride + k], -1 where the
+  /// caller's grid ended (the index then computes it). They must be this index's buckets:
+  /// floor((r + r_max) / bucket_px) of the point's radius r at angle k.
+  struct KnownBuckets
+  {
+    const int32_t* bins = nullptr;
+    int stride = 0, start = 0, capacity = 0;
+  };
+
   /// Index a new set of points (kept by reference: it must outlive the queries until the next
-  /// reset). Nothing is sorted until a query needs it; the memory is reused.
-  void reset(const std::vector<Eigen::Vector2d>& points);
+  /// reset). Nothing is sorted until a query needs it; the memory is reused. With `known`, the
+  /// sorting reads the points' buckets from there instead of computing them (kept by reference
+  /// as well).
+  void reset(const std::vector<Eigen::Vector2d>& points, const KnownBuckets& known);
+  void reset(const std::vector<Eigen::Vector2d>& points) { reset(points, {nullptr, 0, 0, 0}); }
 
   /// Replaces `out` with the indices, ascending, of every point p whose radius from the
   /// centre, (p - centre) . (cos phi, sin phi), may lie in [r_lo, r_hi] for some angle phi
@@ -38,11 +51,14 @@ public:
 
 private:
   void build(int k);
+  /// Point i's bucket at angle k, computed.
+  int bucketAt(int k, const Eigen::Vector2d& p) const;
 
   int num_angles_, num_buckets_;
   double r_max_, bucket_px_;
   Eigen::Vector2d centre_;
   const std::vector<Eigen::Vector2d>* points_ = nullptr;
+  KnownBuckets known_;
   double radius_ = 0;                 ///< largest distance of a point from the centre
   std::vector<double> cos_, sin_;
   std::vector<char> built_;           ///< per angle
