@@ -24,34 +24,55 @@ void TrackingGeometry::project(const Pose& pose, bool update_visibility, std::ve
 {
   const double w = width, h = height;
   const bool shared = shared_endpoint.size() == 2 * map.segments.size();
-  // An endpoint's camera point, from the earlier segment sharing it when there is one; its
-  // pixel likewise when that segment was in front (then its pixels were computed).
+  // An endpoint's camera point, from the earlier segment sharing it when there is one (and did
+  // not clip it away); its pixel likewise when that point was in front (then it was projected).
   auto endpoint = [&](int code, const Eigen::Vector3d& world, Eigen::Vector3d& pc, Eigen::Vector2d& px) {
     const int from = shared ? shared_endpoint[code] : -1;
-    if (from < 0)
+    const ProjectedSegment* o = from >= 0 ? &out[from / 2] : nullptr;
+    if (o == nullptr || (from % 2 == 0 ? o->t0 != 0 : o->t1 != 1))
     {
       pc = pose.toCamera(world);
       return false;
     }
-    const ProjectedSegment& o = out[from / 2];
-    pc = from % 2 == 0 ? o.pc0 : o.pc1;
-    if (!o.in_front)
+    pc = from % 2 == 0 ? o->pc0 : o->pc1;
+    if (!o->in_front)
       return false;
-    px = from % 2 == 0 ? o.a : o.b;
+    px = from % 2 == 0 ? o->a : o->b;
     return true;
   };
   for (size_t i = 0; i < map.segments.size(); ++i)
   {
     ProjectedSegment& s = out[i];
     Eigen::Vector2d a, b;
-    const bool have_a = endpoint(static_cast<int>(2 * i), map.segments[i].p0_world, s.pc0, a);
-    const bool have_b = endpoint(static_cast<int>(2 * i + 1), map.segments[i].p1_world, s.pc1, b);
-    s.in_front = s.pc0.z() > min_depth_m && s.pc1.z() > min_depth_m;
+    bool have_a = endpoint(static_cast<int>(2 * i), map.segments[i].p0_world, s.pc0, a);
+    bool have_b = endpoint(static_cast<int>(2 * i + 1), map.segments[i].p1_world, s.pc1, b);
+    const bool front0 = s.pc0.z() > min_depth_m, front1 = s.pc1.z() > min_depth_m;
+    s.t0 = 0;
+    s.t1 = 1;
+    s.in_front = front0 || front1;
     if (!s.in_front)
     {
       s.visible = false;
       s.visible_length = 0;
       continue;
+    }
+    if (!front0 || !front1)
+    {
+      // Clip the end behind at the near plane (on the segment: the same image line).
+      const double t = (min_depth_m - s.pc0.z()) / (s.pc1.z() - s.pc0.z());
+      const Eigen::Vector3d clip = s.pc0 + t * (s.pc1 - s.pc0);
+      if (!front0)
+      {
+        s.t0 = t;
+        s.pc0 = clip;
+        have_a = false;
+      }
+      else
+      {
+        s.t1 = t;
+        s.pc1 = clip;
+        have_b = false;
+      }
     }
     s.set(have_a ? a : k.project(s.pc0), have_b ? b : k.project(s.pc1));
     if (update_visibility)

@@ -147,8 +147,10 @@ void EventUpdater::relinearize(EstimatorState& state, int i) const
     eq.active = linearizeSegment(geometry_.k, s.pc0, s.pc1, s.a, s.b, state.buffers[i], eq);
   else
   {
-    const MapSegment& seg = geometry_.map.segments[i];
-    eq.active = linearizeSegment(geometry_.k, state.pose, seg.p0_world, seg.p1_world, state.buffers[i], eq);
+    // (Of a segment clipped at the near plane, the clipped part's world points.)
+    Eigen::Vector3d p0, p1;
+    geometry_.usedEndpoints(static_cast<int>(i), s, p0, p1);
+    eq.active = linearizeSegment(geometry_.k, state.pose, p0, p1, state.buffers[i], eq);
   }
   eq.x_lin = state.x_accumulated;
 }

@@ -54,9 +54,10 @@ std::string LossMonitor::check(const EstimatorState& state, int64_t t_ns)
   reset();
   if (!state.pose.allFinite())
     return "the pose is not finite";
+  // (A segment partly behind the camera is clipped at the near plane and still tracked.)
   for (const auto& s : state.projected)
     if (!s.in_front)
-      return "part of the map is behind the camera";
+      return "a map segment is wholly behind the camera";
   const int visible = state.visibleSegments();
   if (visible >= params_.min_visible_segments)
     too_few_since_ns_ = kNever;

@@ -751,8 +751,9 @@ std::vector<ProjectedSegment> TrackerInitializer::projectedMap(const Pose& pose)
 {
   std::vector<ProjectedSegment> projected(geometry_.map.segments.size());
   geometry_.project(pose, false, projected);
+  // (The initialiser validates and refines on whole segments in front only.)
   for (ProjectedSegment& s : projected)
-    s.visible = s.in_front;
+    s.visible = s.in_front && !s.clipped();
   return projected;
 }
 

@@ -136,7 +136,8 @@ dvs_driver::ParamTable trackerParamTable(LineTrackerParams& p, std::string& solv
         "attributed share below this fraction of the track's level (>= 50 %), half the rest structure, residual >= 0.4 px: lost (0: off)");
   t.add("loss_silent_side_ratio", p.loss_silent_side_ratio, "", 0, 1,
         "a visible side that moved >= 1 px across the image (net, over 8 snapshots >= 10 ms apart) with fewer than this fraction of the events its polygon's densest side fired per swept px^2, while unexplained structure arrives near the polygon (its edge fires elsewhere), for 0.1 s: lost (0: off)");
-  positive("min_depth", p.min_depth_m, "m", kInf, "map points closer (or behind): lost");
+  positive("min_depth", p.min_depth_m, "m", kInf,
+           "the near plane: a map segment partly closer (or behind the camera) is clipped there and still tracked; one wholly closer: lost");
   t.add("max_time_backwards", p.max_time_backwards_s, "s", 0, kInf,
         "event time going back by more than this (a replayed bag) restarts the tracker");
   // IMU fusion (when an IMU stream is given).

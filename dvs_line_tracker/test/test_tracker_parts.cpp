@@ -250,6 +250,8 @@ TEST(TrackingGeometry, SharedCornersProjectAsEverySegmentAlone)
         ASSERT_EQ(a[i].pc0, b[i].pc0);
         ASSERT_EQ(a[i].pc1, b[i].pc1);
         ASSERT_EQ(a[i].in_front, b[i].in_front);
+        ASSERT_EQ(a[i].t0, b[i].t0);
+        ASSERT_EQ(a[i].t1, b[i].t1);
         ASSERT_EQ(a[i].visible, b[i].visible);
         ASSERT_EQ(a[i].visible_length, b[i].visible_length);
         if (!a[i].in_front)
@@ -260,10 +262,63 @@ TEST(TrackingGeometry, SharedCornersProjectAsEverySegmentAlone)
         ASSERT_EQ(a[i].length, b[i].length);
       }
     }
-    partly_behind += std::any_of(a.begin(), a.end(), [](const ProjectedSegment& s) { return !s.in_front; }) &&
-                     std::any_of(a.begin(), a.end(), [](const ProjectedSegment& s) { return s.in_front; });
+    partly_behind += std::any_of(a.begin(), a.end(), [](const ProjectedSegment& s) { return s.clipped(); }) ? 1 : 0;
   }
   EXPECT_GT(partly_behind, 0);  // the case where a shared corner's pixel must not be reused
+}
+
+TEST(TrackingGeometry, ASegmentPartlyBehindTheCameraIsClippedOnItsOwnImageLine)
+{
+  // A wide lens close to the square at a steep angle: a corner behind the camera. The two sides
+  // meeting there are clipped at the near plane: in front, their image lines are the lines of
+  // the map sides (every point of a side in front projects onto its clipped segment's line),
+  // their linearisation from the world points usedEndpoints() gives is the one the projection's
+  // camera points give, and the side wholly in front is untouched.
+  TrackingGeometry g = dvs128Geometry();
+  g.indexSharedEndpoints();
+  // The camera 0.1 m above the square near its corner (0.45, 0.45), looking across it towards
+  // the opposite corner: the near corner is behind it, the other three in front.
+  const Pose pose = dvs_calibration::lookAt({0.35, 0.35, 0.1}, {-0.45, -0.45, 0.0}, {0, 0, 1}, 0);
+  std::vector<ProjectedSegment> proj(g.map.segments.size());
+  g.project(pose, true, proj);
+  int clipped = 0;
+  for (size_t i = 0; i < proj.size(); ++i)
+  {
+    SCOPED_TRACE("segment " + std::to_string(i));
+    const MapSegment& m = g.map.segments[i];
+    const ProjectedSegment& s = proj[i];
+    const bool behind0 = pose.toCamera(m.p0_world).z() <= g.min_depth_m,
+               behind1 = pose.toCamera(m.p1_world).z() <= g.min_depth_m;
+    ASSERT_EQ(s.in_front, !(behind0 && behind1));
+    ASSERT_EQ(s.clipped(), behind0 != behind1);
+    if (!s.clipped())
+      continue;
+    ++clipped;
+    EXPECT_EQ(s.t0 != 0, behind0);
+    const double t = behind0 ? s.t0 : s.t1;  // where the part in front begins or ends
+    EXPECT_GT(t, 0.0);
+    EXPECT_LT(t, 1.0);
+    EXPECT_NEAR(s.pc0.z() * (s.t0 != 0) + s.pc1.z() * (s.t1 != 1), g.min_depth_m, 1e-12);
+    for (double t = 0; t <= 1.0; t += 0.05)
+    {
+      const Eigen::Vector3d pc = pose.toCamera(m.p0_world + t * (m.p1_world - m.p0_world));
+      if (pc.z() > g.min_depth_m)
+        EXPECT_NEAR(s.normal.dot(g.k.project(pc) - s.a), 0.0, 1e-6 * (1 + s.length));
+    }
+    Eigen::Vector3d w0, w1;
+    g.usedEndpoints(static_cast<int>(i), s, w0, w1);
+    EXPECT_LT((pose.toCamera(w0) - s.pc0).norm(), 1e-12);
+    EXPECT_LT((pose.toCamera(w1) - s.pc1).norm(), 1e-12);
+    PointMoments moments;
+    for (int j = 0; j < 10; ++j)
+      moments.add(s.a + (0.1 * j) * (s.b - s.a) + Eigen::Vector2d(0.3, -0.2), 1.0);
+    SegmentNormalEquations from_world, from_camera;
+    ASSERT_TRUE(linearizeSegment(g.k, pose, w0, w1, moments, 10, from_world));
+    ASSERT_TRUE(linearizeSegment(g.k, s.pc0, s.pc1, s.a, s.b, moments, 10, from_camera));
+    EXPECT_LT((from_world.H - from_camera.H).norm(), 1e-6 * from_camera.H.norm());
+    EXPECT_LT((from_world.g - from_camera.g).norm(), 1e-6 * (1 + from_camera.g.norm()));
+  }
+  EXPECT_EQ(clipped, 2);
 }
 
 TEST(EventUpdater, LinearisesAtAPoseMovedWithoutProjection)

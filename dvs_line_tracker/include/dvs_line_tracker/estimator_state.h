@@ -20,7 +20,7 @@ struct TrackingGeometry
   PinholeK k;        ///< ideal pinhole (events are undistorted by the camera model's table)
   int width = 0, height = 0;
   double ideal_radius_px = 0;  ///< largest distance of an undistorted sensor pixel from the image centre
-  double min_depth_m = 0.05;            ///< closer map points count as behind the camera
+  double min_depth_m = 0.05;            ///< the near plane: a map segment crossing it is clipped there
   double min_visible_length_px = 12.0;  ///< shorter visible parts do not count as visible
   /// Per segment, per endpoint (2 i + 0: p0, 2 i + 1: p1): the same map point as an endpoint of an
   /// earlier segment, coded the same way, or -1 (a polygon's sides share their corners). Empty:
@@ -30,10 +30,20 @@ struct TrackingGeometry
   /// Fill shared_endpoint from the map (call after setting `map`).
   void indexSharedEndpoints();
   /// Project every map segment at `pose` into `out` (sized like the map); a corner shared by
-  /// several segments is transformed and projected once. With `update_visibility`, also clip to
-  /// the image (visible_length, visible); otherwise only the projection is refreshed (the
-  /// per-event path).
+  /// several segments is transformed and projected once. A segment with one endpoint closer
+  /// than min_depth_m (or behind the camera) is clipped at that depth: the part in front still
+  /// lies on the map segment's image line (a wide lens close to a large target at a steep angle
+  /// sees sides whose far ends are behind it); one wholly closer is not in front. With
+  /// `update_visibility`, also clip to the image (visible_length, visible); otherwise only the
+  /// projection is refreshed (the per-event path).
   void project(const Pose& pose, bool update_visibility, std::vector<ProjectedSegment>& out) const;
+  /// The world points the projection of segment `i` used (its endpoints, or where it was clipped).
+  void usedEndpoints(int i, const ProjectedSegment& s, Eigen::Vector3d& p0_world, Eigen::Vector3d& p1_world) const
+  {
+    const MapSegment& m = map.segments[i];
+    p0_world = s.t0 == 0 ? m.p0_world : Eigen::Vector3d(m.p0_world + s.t0 * (m.p1_world - m.p0_world));
+    p1_world = s.t1 == 1 ? m.p1_world : Eigen::Vector3d(m.p0_world + s.t1 * (m.p1_world - m.p0_world));
+  }
   /// Length (px) of the projected segment `s` inside the image; its clipped endpoints into
   /// `a`, `b` when not empty.
   double clippedSegment(const ProjectedSegment& s, Eigen::Vector2d* a, Eigen::Vector2d* b) const;

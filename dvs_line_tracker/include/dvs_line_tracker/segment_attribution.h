@@ -14,14 +14,18 @@ namespace dvs_line_tracker
 /// A map segment projected into the ideal (undistorted) image.
 struct ProjectedSegment
 {
-  Eigen::Vector3d pc0 = Eigen::Vector3d::Zero();  ///< the map segment's p0 in the camera frame
+  Eigen::Vector3d pc0 = Eigen::Vector3d::Zero();  ///< the map segment's p0 in the camera frame (or where it was clipped)
   Eigen::Vector3d pc1 = Eigen::Vector3d::Zero();  ///< and its p1
   Eigen::Vector2d a = Eigen::Vector2d::Zero();  ///< projection of the map segment's p0 (when in front)
   Eigen::Vector2d b = Eigen::Vector2d::Zero();  ///< projection of p1
   Eigen::Vector2d dir = Eigen::Vector2d::UnitX();  ///< unit vector a -> b
   Eigen::Vector2d normal = Eigen::Vector2d::UnitY();  ///< dir rotated by +90 deg
   double length = 0;
-  bool in_front = false;  ///< both endpoints in front of the camera
+  bool in_front = false;  ///< some of it in front of the camera (a..b: that part)
+  /// Where the part in front begins and ends along the map segment (0 and 1: all of it; else
+  /// it was clipped at the near plane, an endpoint being behind the camera).
+  double t0 = 0, t1 = 1;
+  bool clipped() const { return t0 != 0 || t1 != 1; }
   bool visible = false;   ///< in front and at least the minimum length inside the image
   double visible_length = 0;  ///< length inside the image (where the owner computes visibility)
 

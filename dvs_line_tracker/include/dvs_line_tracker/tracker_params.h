@@ -158,7 +158,7 @@ struct LineTrackerParams
   /// polygon (its edge fires elsewhere), judged so for 0.1 s, is a loss: no edge is where the
   /// pose puts it (silent_side_check.h; 0: off).
   double loss_silent_side_ratio = 0.1;
-  double min_depth_m = 0.05;         ///< map points closer (or behind) -> lost
+  double min_depth_m = 0.05;         ///< the near plane: segments crossing it are clipped there; wholly closer -> lost
   /// Event time going back by more than this (a bag replayed into a running tracker) restarts
   /// the tracker (everything time-dependent is forgotten) and says so.
   double max_time_backwards_s = 0.1;
