@@ -58,34 +58,28 @@ void LinePointIndex::build(int k)
   const int n = static_cast<int>(points.size());
   int* offsets = offsets_.data() + static_cast<size_t>(k) * (num_buckets_ + 1);
   std::fill(offsets, offsets + num_buckets_ + 1, 0);
-  if (known_.bins != nullptr)
+  // The caller's buckets where it has them (a point whose radius the queries compare is bucketed
+  // by the same formula; a bucket off by a rounding would still be inside a query's margin).
+  const int32_t* known = known_.bins != nullptr ? known_.bins + static_cast<size_t>(known_.start) * known_.stride + k : nullptr;
+  int slot = known_.start;
+  for (int i = 0; i < n; ++i)
   {
-    // The caller's buckets (a point whose radius the queries compare is bucketed by the same
-    // formula; a bucket off by a rounding would still be inside a query's margin).
-    const int32_t* slot_bins = known_.bins + static_cast<size_t>(known_.start) * known_.stride + k;
-    int slot = known_.start;
-    for (int i = 0; i < n; ++i)
+    int b = known != nullptr ? *known : -1;
+    if (b < 0 || b >= num_buckets_)
+      b = bucketAt(k, points[i]);
+    bucket_of_[i] = b;
+    ++offsets[b + 1];
+    if (known != nullptr)
     {
-      const int known = *slot_bins;
-      const int b = known >= 0 && known < num_buckets_ ? known : bucketAt(k, points[i]);
-      bucket_of_[i] = b;
-      ++offsets[b + 1];
       if (++slot == known_.capacity)
       {
         slot = 0;
-        slot_bins = known_.bins + k;
+        known = known_.bins + k;
       }
       else
-        slot_bins += known_.stride;
+        known += known_.stride;
     }
   }
-  else
-    for (int i = 0; i < n; ++i)
-    {
-      const int b = bucketAt(k, points[i]);
-      bucket_of_[i] = b;
-      ++offsets[b + 1];
-    }
   std::partial_sum(offsets, offsets + num_buckets_ + 1, offsets);
   int* sorted = sorted_.data() + static_cast<size_t>(k) * n;
   // Stable placement (each bucket keeps the points' order), each bucket's start serving as its
