@@ -102,10 +102,12 @@ int main(int argc, char** argv)
       const auto& st = r.init_stats;
       std::printf("\nlosses %d, last loss: %s\n", r.losses, r.last_loss_reason.c_str());
       std::printf("\ninitialiser: attempts %llu, segments %llu, polygons %llu, cut by border %llu, pose failed %llu, "
-                  "coverage failed %llu, unexplained %llu, ambiguous %llu, unconfirmed %llu, declined %llu, accepted %llu\n\n",
+                  "coverage failed %llu, unexplained %llu, too oblique %llu, ambiguous %llu, unconfirmed %llu, declined %llu, "
+                  "accepted %llu\n\n",
                   (unsigned long long)st.attempts, (unsigned long long)st.segments, (unsigned long long)st.polygons,
                   (unsigned long long)st.cut_by_border, (unsigned long long)st.pose_failed,
-                  (unsigned long long)st.coverage_failed, (unsigned long long)st.unexplained, (unsigned long long)st.ambiguous, (unsigned long long)st.unconfirmed,
+                  (unsigned long long)st.coverage_failed, (unsigned long long)st.unexplained, (unsigned long long)st.too_oblique,
+                  (unsigned long long)st.ambiguous, (unsigned long long)st.unconfirmed,
                   (unsigned long long)st.declined, (unsigned long long)st.accepted);
     }
     if (r.first_pose_s >= 0)

@@ -93,7 +93,7 @@ std::string InitializerStats::json() const
       {"attempts", attempts},         {"full_hough_attempts", full_hough_attempts},
       {"wide_turn_attempts", wide_turn_attempts}, {"segments", segments},         {"polygons", polygons},
       {"cut_by_border", cut_by_border}, {"pose_failed", pose_failed}, {"coverage_failed", coverage_failed}, {"unexplained", unexplained},
-      {"ambiguous", ambiguous},       {"unconfirmed", unconfirmed},   {"declined", declined},
+      {"too_oblique", too_oblique},   {"ambiguous", ambiguous},       {"unconfirmed", unconfirmed},   {"declined", declined},
       {"accepted", accepted},         {"prior_attempts", prior_attempts}, {"prior_accepted", prior_accepted}};
   std::string out = "{";
   for (const auto& f : fields)
@@ -124,7 +124,8 @@ std::string InitializerStats::noPoseReason() const
   else
     why = std::to_string(polygons) + " image polygons: " + std::to_string(pose_failed) + " gave no pose, " +
           std::to_string(coverage_failed) + " were not backed by events along every visible map edge, " +
-          std::to_string(unexplained) + " left most events unexplained, " + std::to_string(ambiguous) +
+          std::to_string(unexplained) + " left most events unexplained, " + std::to_string(too_oblique) +
+          " were seen too far off the polygon's normal, " + std::to_string(ambiguous) +
           " ambiguous, " + std::to_string(unconfirmed) + " unconfirmed (is the map right, the target in view and moving?)";
   return voted + ", " + std::to_string(attempts) + " detection attempts: " + why;
 }
@@ -508,15 +509,27 @@ TrackerInitializer::Outcome TrackerInitializer::tryPolygon(const ImagePolygon& p
     ++stats_.ambiguous;
     return Outcome::kNext;
   }
+  // A square seen far off its normal projects to a thin parallelogram, which rows and diagonals
+  // of any repeated pattern draw too (the screen loop's blinking dot grid started the tracker
+  // 2.9 m off, 77-78 deg off the square's normal, explaining up to 0.44 of the window); the
+  // sweep's correct starts were at most 63 deg off it.
+  if (viewAngleDeg(init.pose, geometry_.map.polygons[init.polygon_index]) > params_.init_max_view_angle_deg)
+  {
+    ++stats_.too_oblique;
+    return Outcome::kNext;
+  }
   // An open polygon is matched from fewer sides, and with several map polygons a whole one can
   // be taken for another: the pose must also explain most of the recent events (a square's
   // three sides taken for the other square of a pair validated its visible sides and left the
   // real square's events unexplained: 0.28-0.34 of them explained in the sweep's false
   // initialisations, 0.6-1.0 in its correct ones; a whole square of a pair taken for the other,
   // which put the other beyond the image where no side needed covering, was the same).
-  const double explained =
-      polygon.open || multi_polygon ? explainedFraction(init.pose, recent) : 1.0;
-  if (explained < kOpenMinExplained)
+  // Any pose must explain a share of them (init_min_explained): a polygon cut out of a pattern of
+  // blobs (the screen loop's blinking alignment grid, whose dots lie along its sides but also all
+  // around them) covered its sides and explained 0.12 of the window (2.5 m off); the sweep's
+  // correct starts explained at least 0.45.
+  const double explained = explainedFraction(init.pose, recent);
+  if (explained < std::max(params_.init_min_explained, polygon.open || multi_polygon ? kOpenMinExplained : 0.0))
   {
     ++stats_.unexplained;
     return Outcome::kNext;
@@ -787,6 +800,16 @@ double TrackerInitializer::refineResidualPx(const Pose& pose, const RecentEvents
     }
   }
   return n > 0 ? std::sqrt(sum_sq / static_cast<double>(n)) : std::numeric_limits<double>::infinity();
+}
+
+double TrackerInitializer::viewAngleDeg(const Pose& pose, const MapPolygon& polygon)
+{
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  for (const auto& c : polygon.corners_world)
+    centre += c;
+  centre /= static_cast<double>(polygon.corners_world.size());
+  const Eigen::Vector3d to_camera = (pose.p_world_camera() - centre).normalized();
+  return std::acos(std::min(1.0, std::abs(frontNormal(polygon).normalized().dot(to_camera)))) * 180.0 / M_PI;
 }
 
 double TrackerInitializer::explainedFraction(const Pose& pose, const RecentEvents& recent) const

@@ -72,6 +72,12 @@ dvs_driver::ParamTable trackerParamTable(LineTrackerParams& p, std::string& solv
   t.add("init_max_surrounding_coverage", p.init_max_surrounding_coverage, "", 0, 1,
         "covered fraction of the strips beside the sides (3 attribution distances away, each side's quieter one), "
         "at most; 1: no limit");
+  t.add("init_min_explained", p.init_min_explained, "", 0, 1,
+        "fraction of the Hough window's events the initial pose must explain (within the attribution distance of a "
+        "projected map side); open polygons and maps of several polygons need at least 0.5");
+  t.add("init_max_view_angle_deg", p.init_max_view_angle_deg, "deg", 0, 90,
+        "the initial pose sees its polygon at most this far off the polygon's normal (90: no limit; tracking goes on "
+        "beyond it)");
   t.add("init_confirmations", p.init_confirmations, "", 0, 4, "earlier agreeing detections (of the last 4) needed");
   positive("init_confirm_position_ratio", p.init_confirm_position_ratio, "", kInf, "agreement: position difference / distance");
   positive("init_confirm_angle_deg", p.init_confirm_angle_deg, "deg", 180, "agreement: orientation difference");

@@ -911,11 +911,12 @@ TEST(InitializerStats, NoPoseReasonNamesTheStageThatStoppedTheDetections)
   s.polygons = 12;
   s.pose_failed = 5;
   s.coverage_failed = 4;
+  s.too_oblique = 3;
   s.ambiguous = 2;
   s.unconfirmed = 1;
   why = s.noPoseReason();
   EXPECT_NE(why.find("12 image polygons: 5 gave no pose, 4 were not backed"), std::string::npos) << why;
-  EXPECT_NE(why.find("2 ambiguous, 1 unconfirmed"), std::string::npos) << why;
+  EXPECT_NE(why.find("3 were seen too far off the polygon's normal, 2 ambiguous, 1 unconfirmed"), std::string::npos) << why;
   // Too few voted events (under a tenth), or none enough for an attempt: the filter is named.
   s.events_voted = 99;
   EXPECT_NE(s.noPoseReason().find("isolated (noise)"), std::string::npos) << s.noPoseReason();

@@ -42,7 +42,8 @@ struct InitializerStats
   uint64_t cut_by_border = 0;         ///< polygons with a corner at or beyond the image border (partial views; still tried)
   uint64_t pose_failed = 0;           ///< polygons whose corners gave no consistent pose
   uint64_t coverage_failed = 0;       ///< poses whose projected map was not backed by window events
-  uint64_t unexplained = 0;           ///< poses of open polygons (one side out of view) or of maps of several polygons that left most recent events unexplained
+  uint64_t unexplained = 0;           ///< poses that left too many recent events unexplained (init_min_explained; open polygons, one side out of view, and maps of several polygons: most)
+  uint64_t too_oblique = 0;           ///< poses seeing their polygon more than init_max_view_angle_deg off its normal
   uint64_t ambiguous = 0;             ///< the map did not decide: two map polygons explained the events about equally well, one rejected for its sides' coverage explained clearly more of them, or a symmetric polygon's rotations were about equally upright, or the camera rolled too fast for the map's up to pick one
   uint64_t unconfirmed = 0;           ///< valid detections waiting for an agreeing one
   uint64_t declined = 0;              ///< confirmed poses the tracker declined (too little map in view)
@@ -190,6 +191,9 @@ private:
   /// Fraction of the Hough window's events within the attribution distance of a projected map
   /// segment (the evidence `pose` explains, whatever it leaves out).
   double explainedFraction(const Pose& pose, const RecentEvents& recent) const;
+  /// Angle (deg, 0-90) between the polygon's normal and the line from its corners' centroid to
+  /// the camera.
+  static double viewAngleDeg(const Pose& pose, const MapPolygon& polygon);
   /// RMS distance (px) of the refinement events within the window's attribution distance of a
   /// projected map segment (beside it, not beyond its ends) to the nearest such segment;
   /// infinite when none is.

@@ -129,6 +129,12 @@ struct LineTrackerParams
   double init_max_roll_rate_deg_s = 500.0;
   double init_max_inside_ratio = 0.3; ///< window events well inside the polygon / events on its sides, upper bound
   double init_max_surrounding_coverage = 0.4; ///< covered fraction of the strips 3 attribution distances beside each side (its quieter side), upper bound (1: no limit)
+  /// Fraction of the Hough window's events an initial pose must explain (within the attribution
+  /// distance of a projected map side); open polygons and maps of several polygons need 0.5.
+  double init_min_explained = 0.25;
+  /// An initial pose may see its polygon at most this far off the polygon's normal (tracking goes
+  /// on beyond it; 90: no limit).
+  double init_max_view_angle_deg = 70.0;
   // Tracking-quality monitoring.
   int quality_check_interval = 512;  ///< events between quality checks while tracking
   int min_visible_segments = 3;      ///< fewer visible (>= min_visible_length_px inside the image) -> lost
