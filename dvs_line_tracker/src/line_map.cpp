@@ -112,10 +112,7 @@ void finalizeLineMap(LineMap& map, const std::string& name)
     for (int id : poly.segment_ids)
       used[id] = true;
     // Planarity.
-    Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
-    for (const auto& c : poly.corners_world)
-      centroid += c;
-    centroid /= static_cast<double>(poly.corners_world.size());
+    const Eigen::Vector3d centroid = cornerCentroid(poly);
     Eigen::MatrixXd a(poly.corners_world.size(), 3);
     for (size_t k = 0; k < poly.corners_world.size(); ++k)
       a.row(k) = (poly.corners_world[k] - centroid).transpose();
@@ -219,6 +216,14 @@ Eigen::Vector3d frontNormal(const MapPolygon& poly)
   for (size_t i = 0; i < corners.size(); ++i)
     normal += corners[i].cross(corners[(i + 1) % corners.size()]);
   return normal;
+}
+
+Eigen::Vector3d cornerCentroid(const MapPolygon& poly)
+{
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  for (const auto& c : poly.corners_world)
+    centroid += c;
+  return centroid / static_cast<double>(poly.corners_world.size());
 }
 
 std::vector<Eigen::Isometry3d> lineMapSymmetries(const LineMap& map, double tolerance_m)

@@ -122,11 +122,7 @@ Pose poseFromCv(const cv::Matx33d& R, const double* t)
 /// Map polygons are listed counter-clockwise seen from the side they are viewed from.
 bool viewedFromFront(const MapPolygon& poly, const Pose& pose)
 {
-  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
-  for (const auto& c : poly.corners_world)
-    centroid += c;
-  centroid /= static_cast<double>(poly.corners_world.size());
-  return frontNormal(poly).dot(pose.p_world_camera() - centroid) >= 0;
+  return frontNormal(poly).dot(pose.p_world_camera() - cornerCentroid(poly)) >= 0;
 }
 
 /// The pose of one corner assignment: IPPE for planar polygons (`planar_ippe`); it degenerates

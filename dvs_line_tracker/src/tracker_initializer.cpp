@@ -804,11 +804,7 @@ double TrackerInitializer::refineResidualPx(const Pose& pose, const RecentEvents
 
 double TrackerInitializer::viewAngleDeg(const Pose& pose, const MapPolygon& polygon)
 {
-  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
-  for (const auto& c : polygon.corners_world)
-    centre += c;
-  centre /= static_cast<double>(polygon.corners_world.size());
-  const Eigen::Vector3d to_camera = (pose.p_world_camera() - centre).normalized();
+  const Eigen::Vector3d to_camera = (pose.p_world_camera() - cornerCentroid(polygon)).normalized();
   return std::acos(std::min(1.0, std::abs(frontNormal(polygon).normalized().dot(to_camera)))) * 180.0 / M_PI;
 }
 

@@ -36,6 +36,8 @@ struct MapPolygon
 /// A polygon's normal by Newell's method (length twice its area when planar), pointing to its
 /// front: the side from which its corners run anticlockwise.
 Eigen::Vector3d frontNormal(const MapPolygon& poly);
+/// The mean of a polygon's corners.
+Eigen::Vector3d cornerCentroid(const MapPolygon& poly);
 
 struct LineMap
 {
