@@ -62,6 +62,8 @@ TEST(TrackerParams, TableNamesTheBadParameterAndItsBounds)
   p.init_min_up_margin = -0.1;
   p.init_max_roll_rate_deg_s = 0;
   p.init_max_surrounding_coverage = 1.5;
+  p.init_min_explained = -1;
+  p.init_max_view_angle_deg = 120;
   p.attribution_drop_ratio = -0.1;
   p.loss_neighbour_events = 0;
   p.loss_silent_side_ratio = 1.5;
@@ -74,6 +76,8 @@ TEST(TrackerParams, TableNamesTheBadParameterAndItsBounds)
   EXPECT_NE(err.find("init_min_up_margin must be in [0, 2]"), std::string::npos) << err;
   EXPECT_NE(err.find("init_max_roll_rate must be"), std::string::npos) << err;
   EXPECT_NE(err.find("init_max_surrounding_coverage must be in [0, 1] (got 1.5)"), std::string::npos) << err;
+  EXPECT_NE(err.find("init_min_explained must be in [0, 1] (got -1)"), std::string::npos) << err;
+  EXPECT_NE(err.find("init_max_view_angle_deg must be in [0, 90] deg (got 120)"), std::string::npos) << err;
   EXPECT_NE(err.find("attribution_drop_ratio must be in [0, 1] (got -0.1)"), std::string::npos) << err;
   EXPECT_NE(err.find("loss_neighbour_events must be in [1, 1e+07] events (got 0)"), std::string::npos) << err;
   EXPECT_NE(err.find("loss_silent_side_ratio must be in [0, 1] (got 1.5)"), std::string::npos) << err;
