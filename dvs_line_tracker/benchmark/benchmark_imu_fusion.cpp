@@ -155,21 +155,20 @@ int main(int argc, char** argv)
       const FlipRunResult vb = run(s, params, false, start, blackout);
       const FlipRunResult mb = run(s, params, true, start, blackout);
       const double ch = m.all.rms_position_m / std::max(1e-9, v.all.rms_position_m) - 1.0;
-      const double n = std::max<uint64_t>(1, 3 * m.consistency_samples);
+
       rms_vis.push_back(v.all.rms_position_m);
       rms_imu.push_back(m.all.rms_position_m);
       change.push_back(ch);
       end_p.push_back(mb.after_gap_position_m < 0 ? kNotTracking : mb.after_gap_position_m);
       end_r.push_back(mb.after_gap_orientation_rad < 0 ? kNotTracking : mb.after_gap_orientation_rad);
-      in1.push_back(m.inside1 / n);
-      in3.push_back(m.inside3 / n);
-      in1r.push_back(m.inside1_rot / n);
-      in3r.push_back(m.inside3_rot / n);
-      const double nv = std::max<uint64_t>(1, 3 * v.consistency_samples);
-      vin1.push_back(v.inside1 / nv);
-      vin3.push_back(v.inside3 / nv);
-      vin1r.push_back(v.inside1_rot / nv);
-      vin3r.push_back(v.inside3_rot / nv);
+      in1.push_back(m.consistency.position1());
+      in3.push_back(m.consistency.position3());
+      in1r.push_back(m.consistency.rotation1());
+      in3r.push_back(m.consistency.rotation3());
+      vin1.push_back(v.consistency.position1());
+      vin3.push_back(v.consistency.position3());
+      vin1r.push_back(v.consistency.rotation1());
+      vin3r.push_back(v.consistency.rotation3());
       imu_losses += mb.stats.losses + m.stats.losses;
       vis_losses += vb.stats.losses;
       std::printf("| %.1f m | %d | %.2f / %.2f | %.2f / %.2f | %+.0f %% | %llu / %llu | %llu / %llu / %llu | %s | %.2f | "

@@ -8,6 +8,8 @@
 #include "benchmark_stats.h"
 #include "sweep_evaluation.h"
 
+#include <dvs_line_tracker/body_odometry.h>
+
 #include <algorithm>
 #include <cstdio>
 #include <stdexcept>
@@ -75,6 +77,10 @@ int main(int argc, char** argv)
   int initialized = 0, correct = 0, false_inits = 0, failed = 0;
   std::vector<double> delays;
   double worst_delay = 0, worst_tracked = 1, worst_rms_ratio = 0;
+  // The vision-only covariance against the errors, summed over the scenes.
+  CovarianceConsistency consistency, consistency_without_lag;
+  constexpr double kCoveredEnough = 0.9;
+  int covariance_scenes = 0, undercovered = 0, undercovered_without_lag = 0;
   for (int i : todo)
   {
     const auto& sp = specs[i];
@@ -97,8 +103,22 @@ int main(int argc, char** argv)
                 r.initializations, r.false_initializations, 100 * r.tracked_fraction, 100 * r.rms_position_m,
                 r.rms_orientation_deg, 100 * r.rms_position_ratio, r.tracker_cpu_s, r.simulator_cpu_s);
     false_inits += r.false_initializations;
+    consistency.add(r.consistency);
+    consistency_without_lag.add(r.consistency_without_lag);
+    if (r.consistency.samples > 0)
+    {
+      ++covariance_scenes;
+      undercovered += r.consistency.position3() < kCoveredEnough ? 1 : 0;
+      undercovered_without_lag += r.consistency_without_lag.position3() < kCoveredEnough ? 1 : 0;
+    }
     if (only >= 0)
     {
+      std::printf("\nvision-only covariance: position inside 1 / 3 sigma %.1f / %.1f %%, rotation %.1f / %.1f %% "
+                  "(without the lag term %.1f / %.1f %%, %.1f / %.1f %%; %llu samples)\n",
+                  100 * r.consistency.position1(), 100 * r.consistency.position3(), 100 * r.consistency.rotation1(),
+                  100 * r.consistency.rotation3(), 100 * r.consistency_without_lag.position1(),
+                  100 * r.consistency_without_lag.position3(), 100 * r.consistency_without_lag.rotation1(),
+                  100 * r.consistency_without_lag.rotation3(), (unsigned long long)r.consistency.samples);
       const auto& st = r.init_stats;
       std::printf("\nlosses %d, last loss: %s\n", r.losses, r.last_loss_reason.c_str());
       std::printf("\ninitialiser: attempts %llu, segments %llu, polygons %llu, cut by border %llu, pose failed %llu, "
@@ -128,5 +148,14 @@ int main(int argc, char** argv)
               "worst tracked fraction (>= 3 edges in view) %.1f %%; worst RMS %.2f %% of the distance%s\n",
               n, initialized, n, correct, n, false_inits, median(delays, -1), worst_delay, 100 * worst_tracked,
               100 * worst_rms_ratio, failed ? " (some scenes could not be built: see the rows)" : "");
+  std::printf("\n**Vision-only covariance** (every 1 ms of tracking, %llu samples; a consistent estimate: 68.3 / 99.7 %%): "
+              "position errors inside 1 / 3 sigma %.1f / %.1f %%, rotation %.1f / %.1f %%; scenes with fewer than %.0f %% "
+              "of the position errors inside 3 sigma: %d of %d. Without the lag term (the Gauss-Newton covariance x %.0f "
+              "alone): %.1f / %.1f %%, %.1f / %.1f %%, %d scenes\n",
+              (unsigned long long)consistency.samples, 100 * consistency.position1(), 100 * consistency.position3(),
+              100 * consistency.rotation1(), 100 * consistency.rotation3(), 100 * kCoveredEnough, undercovered,
+              covariance_scenes, kVisionOnlyCovarianceScale, 100 * consistency_without_lag.position1(),
+              100 * consistency_without_lag.position3(), 100 * consistency_without_lag.rotation1(),
+              100 * consistency_without_lag.rotation3(), undercovered_without_lag);
   return 0;
 }

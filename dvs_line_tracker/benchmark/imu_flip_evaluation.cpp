@@ -25,19 +25,8 @@ namespace
 void countConsistency(const FlipScene& s, int64_t t_ns, const Pose& estimate, const Matrix6d& cov,
                       const FlipRunOptions& options, FlipRunResult& r)
 {
-  const Pose gt = s.truth(t_ns);
-  const Eigen::Vector3d dp = estimate.p_world_camera() - gt.p_world_camera();
-  const Eigen::AngleAxisd aa(estimate.R_camera_world * gt.R_world_camera());
-  const Eigen::Vector3d dr = aa.angle() * aa.axis();
-  for (int a = 0; a < 3; ++a)
-  {
-    const double sp = std::sqrt(cov(3 + a, 3 + a)), sr = std::sqrt(cov(a, a));
-    r.inside1 += std::abs(dp[a]) <= sp;
-    r.inside3 += std::abs(dp[a]) <= 3 * sp;
-    r.inside1_rot += std::abs(dr[a]) <= sr;
-    r.inside3_rot += std::abs(dr[a]) <= 3 * sr;
-  }
-  ++r.consistency_samples;
+  Eigen::Vector3d dp, dr;
+  r.consistency.add(s.truth(t_ns), estimate, cov, &dp, &dr);
   if (options.trace)
     std::fprintf(options.trace, "%.4f %.5f %.5f %.5f %.5f %.5f %.5f %.6f %.6f %.6f %.6f %.6f %.6f\n", t_ns * 1e-9,
                  dp.x(), dp.y(), dp.z(), std::sqrt(cov(3, 3)), std::sqrt(cov(4, 4)), std::sqrt(cov(5, 5)), dr.x(),
@@ -80,8 +69,7 @@ FlipRunResult runFlip(const FlipScene& s, const FlipRunOptions& options)
     // Vision alone: the tracker's pose against the covariance ~odometry reports, every 1 ms.
     if (!imu && tracker.state() == TrackerState::kTracking && e.t_ns >= next_check_ns)
     {
-      countConsistency(s, e.t_ns, tracker.pose(),
-                       visionPoseCovariance(tracker.estimatorState()) * kVisionOnlyCovarianceScale, options, r);
+      countConsistency(s, e.t_ns, tracker.pose(), tracker.visionOnlyPoseCovariance(), options, r);
       next_check_ns = e.t_ns + 1000000;
     }
     if (options.blackout_s > 0 && e.t_ns >= b0 && e.t_ns < b1)

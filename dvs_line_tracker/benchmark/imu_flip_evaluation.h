@@ -5,6 +5,8 @@
 // against ground truth: accuracy, the error right after the blackout, the tracker's and the
 // IMU's counters, and the covariance consistency of the odometry (with IMU) or of the vision's
 // covariance (without).
+#include "covariance_consistency.h"
+
 #include <dvs_calibration/trajectory_accuracy.h>
 #include <dvs_line_tracker/imu_propagator.h>
 #include <dvs_line_tracker/line_tracker.h>
@@ -52,10 +54,10 @@ struct FlipRunResult
   std::string imu_message;
   Eigen::Vector3d gravity = Eigen::Vector3d::Zero();  ///< the filter's at the end
   double after_gap_position_m = -1, after_gap_orientation_rad = -1;  ///< first pose after the blackout (-1: not tracking)
-  /// Errors inside 1 / 3 sigma per axis (position in the world, rotation in camera axes) of the
-  /// odometry at every IMU sample (with IMU), or of the tracker's pose against its vision
-  /// covariance x kVisionOnlyCovarianceScale every 1 ms (without).
-  uint64_t inside1 = 0, inside3 = 0, inside1_rot = 0, inside3_rot = 0, consistency_samples = 0;
+  /// The odometry's covariance against its errors at every IMU sample (with IMU), or the
+  /// tracker's pose against its vision-only covariance (LineTracker::visionOnlyPoseCovariance)
+  /// every 1 ms (without).
+  CovarianceConsistency consistency;
   bool odometry_positive_definite = true;  ///< every odometry's pose and velocity covariance
 };
 

@@ -5,11 +5,13 @@
 #include <dvs_calibration/trajectory_accuracy.h>
 #include <dvs_calibration/trajectory_file.h>
 #include <dvs_driver/event_text_io.h>
+#include <dvs_line_tracker/body_odometry.h>
 #include <dvs_line_tracker/line_tracker.h>
 
 #include <algorithm>
 #include <ctime>
 #include <fstream>
+#include <limits>
 
 namespace dvs_line_tracker
 {
@@ -174,10 +176,19 @@ SweepResult runSweepScene(const SweepScene& s, const LineTrackerParams& params)
   estimates.reserve(events.size());
   const double c0 = threadCpuSeconds();
   bool tracking = false;
+  int64_t next_consistency_ns = std::numeric_limits<int64_t>::min();
   for (const auto& e : events)
   {
     const bool updated = tracker.processEvent(e);
     const bool now_tracking = tracker.state() == TrackerState::kTracking;
+    if (now_tracking && e.t_ns >= next_consistency_ns)
+    {
+      next_consistency_ns = e.t_ns + 1000000;
+      const dvs_calibration::Pose truth = s.trajectory->poseAt(e.t_ns * 1e-9);
+      r.consistency.add(truth, tracker.pose(), tracker.visionOnlyPoseCovariance());
+      r.consistency_without_lag.add(truth, tracker.pose(),
+                                    visionPoseCovariance(tracker.estimatorState()) * kVisionOnlyCovarianceScale);
+    }
     if (updated)
     {
       const double t = e.t_ns * 1e-9;

@@ -2,6 +2,7 @@
 // Simulating a sweep scene and measuring the tracker on it against ground truth: when the map's
 // edges start firing, when and how well the tracker gives its first pose, false
 // initialisations, the tracked fraction while at least three map edges are in view, and the RMS.
+#include "covariance_consistency.h"
 #include "sweep_scene.h"
 
 #include <dvs_calibration/trajectory_accuracy.h>
@@ -36,6 +37,10 @@ struct SweepResult
   uint64_t events_outside_sensor = 0;
   InitializerStats init_stats;
   std::string last_loss_reason;
+  /// Every 1 ms of event time while tracking: the pose's error against the vision-only
+  /// covariance the odometry reports (LineTracker::visionOnlyPoseCovariance), and against its
+  /// Gauss-Newton part alone (visionPoseCovariance x kVisionOnlyCovarianceScale, without the lag).
+  CovarianceConsistency consistency, consistency_without_lag;
 };
 
 /// Whether any part of the map projects into the (distorted) image at `pose` (sampled along its

@@ -1,5 +1,7 @@
 #include <dvs_line_tracker/line_tracker.h>
 
+#include <dvs_line_tracker/body_odometry.h>
+
 #include <algorithm>
 #include <stdexcept>
 
@@ -206,6 +208,8 @@ bool LineTracker::processEvent(const dvs_driver::Event& e)
   // While only a corner is in view (partial_view_grace_s) the estimate goes on but reports no
   // pose: it resumes when a third side comes back, or the track is lost when none does.
   const bool held = status_ == TrackerState::kTracking && monitor_.partialViewHeld();
+  if (status_ == TrackerState::kTracking)
+    lag_.sample(e.t_ns, estimator_.pose, stats_.events_attributed + (updated ? 1 : 0));
   if (updated)
   {
     ++stats_.events_attributed;
@@ -241,9 +245,16 @@ bool LineTracker::startTracking(const Pose& pose)
   if (visible < params_.min_visible_segments)
     return false;
   status_ = TrackerState::kTracking;
+  lag_.reset();
   if (propagator_)
     propagator_->restart(estimator_, now_ns_);
   return true;
+}
+
+Matrix6d LineTracker::visionOnlyPoseCovariance() const
+{
+  return visionPoseCovariance(estimator_) * kVisionOnlyCovarianceScale +
+         lag_.covariance(estimator_.visibleSegments(), params_.buffer_size);
 }
 
 void LineTracker::declareLost(const std::string& reason)

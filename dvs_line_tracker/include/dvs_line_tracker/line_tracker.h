@@ -12,6 +12,7 @@
 #include <dvs_line_tracker/line_map.h>
 #include <dvs_line_tracker/loss_monitor.h>
 #include <dvs_line_tracker/state_propagator.h>
+#include <dvs_line_tracker/motion_lag.h>
 #include <dvs_line_tracker/tracker_initializer.h>
 #include <dvs_line_tracker/tracker_params.h>
 
@@ -83,6 +84,12 @@ public:
   void setPose(const Pose& pose);
   /// Forget everything (every part) and initialise again.
   void reset();
+  /// The pose covariance of vision alone (rotation error in camera axes, then position in the
+  /// world): the buffered events' Gauss-Newton covariance x kVisionOnlyCovarianceScale, plus the
+  /// lag of a moving camera behind the buffers (motion_lag.h).
+  Matrix6d visionOnlyPoseCovariance() const;
+  /// The estimate's own motion behind that lag term.
+  const MotionLag& motionLag() const { return lag_; }
   /// Mean |point-to-line| distance (px) over all buffered points of visible segments.
   double meanResidualPx() const { return dvs_line_tracker::meanResidualPx(estimator_); }
 
@@ -115,6 +122,7 @@ private:
   EventUpdater updater_;
   LossMonitor monitor_;
   Pose held_pose_;  ///< the pose when a partial view began (partial_view_grace_s)
+  MotionLag lag_;
   std::shared_ptr<StatePropagator> propagator_;
 
   TrackerState status_ = TrackerState::kInitializing;

@@ -190,9 +190,7 @@ void TrackerRos::publishOdometry(int64_t t_ns)
   const BodyOdometry b =
       imu_ && imu_->odometry(t_ns, o)
           ? toBodyOdometry(o, T_camera_body_)
-          : visionBodyOdometry(last_event_ns_, tracker_->pose(),
-                               visionPoseCovariance(tracker_->estimatorState()) * kVisionOnlyCovarianceScale,
-                               T_camera_body_);
+          : visionBodyOdometry(last_event_ns_, tracker_->pose(), tracker_->visionOnlyPoseCovariance(), T_camera_body_);
   if (b.t_ns < last_odometry_ns_)
     return;  // switching between the IMU's prediction and the vision's pose: stamps never go back
   last_odometry_ns_ = b.t_ns;
