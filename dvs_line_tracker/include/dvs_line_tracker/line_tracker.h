@@ -11,8 +11,8 @@
 #include <dvs_line_tracker/event_updater.h>
 #include <dvs_line_tracker/line_map.h>
 #include <dvs_line_tracker/loss_monitor.h>
-#include <dvs_line_tracker/state_propagator.h>
 #include <dvs_line_tracker/motion_lag.h>
+#include <dvs_line_tracker/state_propagator.h>
 #include <dvs_line_tracker/tracker_initializer.h>
 #include <dvs_line_tracker/tracker_params.h>
 
