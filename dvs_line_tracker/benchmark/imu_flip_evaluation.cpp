@@ -64,7 +64,8 @@ FlipRunResult runFlip(const FlipScene& s, const FlipRunOptions& options)
         continue;
       r.odometry_positive_definite &= Eigen::LLT<Matrix6d>(odo.pose_covariance).info() == Eigen::Success &&
                                       odo.velocity_covariance.llt().info() == Eigen::Success;
-      countConsistency(s, sample.t_ns, odo.T_world_camera, odo.pose_covariance, options, r);
+      // As ~odometry reports it: the filter's covariance plus the vision updates' lag.
+      countConsistency(s, sample.t_ns, odo.T_world_camera, odo.pose_covariance + tracker.motionLagCovariance(), options, r);
     }
     // Vision alone: the tracker's pose against the covariance ~odometry reports, every 1 ms.
     if (!imu && tracker.state() == TrackerState::kTracking && e.t_ns >= next_check_ns)

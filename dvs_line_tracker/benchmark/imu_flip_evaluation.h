@@ -54,7 +54,8 @@ struct FlipRunResult
   std::string imu_message;
   Eigen::Vector3d gravity = Eigen::Vector3d::Zero();  ///< the filter's at the end
   double after_gap_position_m = -1, after_gap_orientation_rad = -1;  ///< first pose after the blackout (-1: not tracking)
-  /// The odometry's covariance against its errors at every IMU sample (with IMU), or the
+  /// The odometry's covariance (plus LineTracker::motionLagCovariance, as ~odometry reports it)
+  /// against its errors at every IMU sample (with IMU), or the
   /// tracker's pose against its vision-only covariance (LineTracker::visionOnlyPoseCovariance)
   /// every 1 ms (without).
   CovarianceConsistency consistency;

@@ -251,10 +251,14 @@ bool LineTracker::startTracking(const Pose& pose)
   return true;
 }
 
+Matrix6d LineTracker::motionLagCovariance() const
+{
+  return lag_.covariance(estimator_.visibleSegments(), params_.buffer_size);
+}
+
 Matrix6d LineTracker::visionOnlyPoseCovariance() const
 {
-  return visionPoseCovariance(estimator_) * kVisionOnlyCovarianceScale +
-         lag_.covariance(estimator_.visibleSegments(), params_.buffer_size);
+  return visionPoseCovariance(estimator_) * kVisionOnlyCovarianceScale + motionLagCovariance();
 }
 
 void LineTracker::declareLost(const std::string& reason)

@@ -74,6 +74,11 @@ TEST(ImuFusion, MoreAccurateThanVisionAloneOnTheFlip)
   EXPECT_LT(m.all.rms_orientation_rad, v.all.rms_orientation_rad);
   EXPECT_GT(m.consistency.samples, 1000u);
   EXPECT_TRUE(m.odometry_positive_definite);
+  // The odometry's covariance as ~odometry reports it (the filter's plus the vision updates' lag,
+  // motion_lag.h): 100 % of the rotation errors inside 3 sigma measured here, 95.6 % without the
+  // lag term.
+  EXPECT_GT(m.consistency.rotation3(), 0.98);
+  EXPECT_GT(m.consistency.position3(), 0.98);
 }
 
 TEST(ImuFusion, VisionAloneCovarianceCoversTheFlipsLag)

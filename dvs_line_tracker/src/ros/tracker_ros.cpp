@@ -187,8 +187,11 @@ void TrackerRos::publishOdometry(int64_t t_ns)
   if (odometry_pub_.getNumSubscribers() == 0 || !tracker_ || tracker_->state() != TrackerState::kTracking)
     return;
   ImuOdometry o;
+  const bool fused = imu_ && imu_->odometry(t_ns, o);
+  if (fused)
+    o.pose_covariance += tracker_->motionLagCovariance();  // the vision updates' lag (motion_lag.h)
   const BodyOdometry b =
-      imu_ && imu_->odometry(t_ns, o)
+      fused
           ? toBodyOdometry(o, T_camera_body_)
           : visionBodyOdometry(last_event_ns_, tracker_->pose(), tracker_->visionOnlyPoseCovariance(), T_camera_body_);
   if (b.t_ns < last_odometry_ns_)
