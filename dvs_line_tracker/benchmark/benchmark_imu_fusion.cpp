@@ -155,7 +155,6 @@ int main(int argc, char** argv)
       const FlipRunResult vb = run(s, params, false, start, blackout);
       const FlipRunResult mb = run(s, params, true, start, blackout);
       const double ch = m.all.rms_position_m / std::max(1e-9, v.all.rms_position_m) - 1.0;
-
       rms_vis.push_back(v.all.rms_position_m);
       rms_imu.push_back(m.all.rms_position_m);
       change.push_back(ch);

@@ -208,14 +208,14 @@ bool LineTracker::processEvent(const dvs_driver::Event& e)
   // While only a corner is in view (partial_view_grace_s) the estimate goes on but reports no
   // pose: it resumes when a third side comes back, or the track is lost when none does.
   const bool held = status_ == TrackerState::kTracking && monitor_.partialViewHeld();
-  if (status_ == TrackerState::kTracking)
-    lag_.sample(e.t_ns, estimator_.pose, stats_.events_attributed + (updated ? 1 : 0));
   if (updated)
   {
     ++stats_.events_attributed;
     if (!held)
       ++stats_.pose_updates;
   }
+  if (status_ == TrackerState::kTracking)
+    lag_.sample(e.t_ns, estimator_.pose, stats_.events_attributed);
   return updated && status_ == TrackerState::kTracking && !held;
 }
 

@@ -91,8 +91,6 @@ public:
   /// That lag term alone (zero while the motion is not known): the IMU filter's odometry adds it
   /// too, since the vision updates it is corrected by trail the camera as much.
   Matrix6d motionLagCovariance() const;
-  /// The estimate's own motion behind that lag term.
-  const MotionLag& motionLag() const { return lag_; }
   /// Mean |point-to-line| distance (px) over all buffered points of visible segments.
   double meanResidualPx() const { return dvs_line_tracker::meanResidualPx(estimator_); }
 
