@@ -261,7 +261,22 @@ void EventUpdater::expireStaleEvents(EstimatorState& state, int i) const
     state.buffers[i].expire(state.projected[i], params_.buffer_motion_px);
 }
 
-void EventUpdater::refresh(EstimatorState& state)
+double EventUpdater::partialViewDamping(double attributed_rate_hz) const
+{
+  // The damping is a prior per event that holds the pose where the last event left it: per
+  // second it holds the harder the more events arrive. A slow camera's few events then let the
+  // weakly observable pair (lateral translation / tilt) trail its motion: scaled with the event
+  // rate below damping_partial_view_rate, the prior holds the pose for a time rather than for a
+  // number of events (a slow partial view at 1.2 m lagged by 5 cm / 2 deg; BENCHMARKS.md,
+  // thirty-seventh session). Unknown rate (a track just started): the full damping.
+  const double base = params_.estimator.damping;
+  double partial = std::max(base, params_.damping_partial_view);
+  if (params_.damping_partial_view_rate > 0 && attributed_rate_hz >= 0)
+    partial = base + (partial - base) * std::min(1.0, attributed_rate_hz / params_.damping_partial_view_rate);
+  return partial;
+}
+
+void EventUpdater::refresh(EstimatorState& state, double attributed_rate_hz)
 {
   project(state, true);
   dark_side_.updateInsides(state.projected);
@@ -274,8 +289,7 @@ void EventUpdater::refresh(EstimatorState& state)
   bool partial = false;
   for (const auto& s : state.projected)
     partial |= !s.in_front || s.visible_length < s.length - 1.0;
-  state.damping =
-      partial ? std::max(params_.estimator.damping, params_.damping_partial_view) : params_.estimator.damping;
+  state.damping = partial ? partialViewDamping(attributed_rate_hz) : params_.estimator.damping;
   // Visibility and damping may have changed: the next solve assembles the information anew.
   factor_.valid = false;
 }

@@ -191,7 +191,7 @@ bool LineTracker::processEvent(const dvs_driver::Event& e)
   monitor_.countEvent(updated, e.x, e.y, attributed_to, &p, &estimator_.projected);
   if (monitor_.due())
   {
-    updater_.refresh(estimator_);
+    updater_.refresh(estimator_, lag_.attributedRate());
     const bool was_held = monitor_.partialViewHeld();
     const std::string reason = monitor_.check(estimator_, e.t_ns);
     if (!was_held && monitor_.partialViewHeld())

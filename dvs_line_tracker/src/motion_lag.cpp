@@ -15,31 +15,45 @@ void MotionLag::record(int64_t t_ns, const Pose& pose, uint64_t events_attribute
   next_ns_ = t_ns + kSamplePeriodNs;
 }
 
-bool MotionLag::motion(int visible_segments, int buffer_size, double& angular_speed, double& linear_speed,
-                       double& span_s) const
+bool MotionLag::window(const Sample*& then, const Sample*& now) const
 {
-  angular_speed = linear_speed = span_s = 0;
-  if (count_ < 2 || visible_segments <= 0 || buffer_size <= 0)
+  then = now = nullptr;
+  if (count_ < 2)
     return false;
-  const Sample& now = ring_[(head_ + kCapacity - 1) % kCapacity];
+  now = &ring_[(head_ + kCapacity - 1) % kCapacity];
   // The newest sample at least kRateWindowNs older than the latest.
-  const Sample* then = nullptr;
   for (int back = 1; back < count_; ++back)
   {
     const Sample& s = ring_[(head_ + kCapacity - 1 - back) % kCapacity];
-    if (now.t_ns - s.t_ns >= kRateWindowNs)
+    if (now->t_ns - s.t_ns >= kRateWindowNs)
     {
       then = &s;
       break;
     }
   }
-  if (!then || now.t_ns - then->t_ns > kMaxRateWindowNs || now.events_attributed <= then->events_attributed)
+  return then && now->t_ns - then->t_ns <= kMaxRateWindowNs && now->events_attributed > then->events_attributed;
+}
+
+double MotionLag::attributedRate() const
+{
+  const Sample *then, *now;
+  if (!window(then, now))
+    return -1;
+  return static_cast<double>(now->events_attributed - then->events_attributed) / ((now->t_ns - then->t_ns) * 1e-9);
+}
+
+bool MotionLag::motion(int visible_segments, int buffer_size, double& angular_speed, double& linear_speed,
+                       double& span_s) const
+{
+  angular_speed = linear_speed = span_s = 0;
+  const Sample *then, *now;
+  if (visible_segments <= 0 || buffer_size <= 0 || !window(then, now))
     return false;
-  const double dt = (now.t_ns - then->t_ns) * 1e-9;
-  const Eigen::AngleAxisd turn(now.pose.R_camera_world * then->pose.R_world_camera());
+  const double dt = (now->t_ns - then->t_ns) * 1e-9;
+  const Eigen::AngleAxisd turn(now->pose.R_camera_world * then->pose.R_world_camera());
   angular_speed = std::abs(turn.angle()) / dt;
-  linear_speed = (now.pose.p_world_camera() - then->pose.p_world_camera()).norm() / dt;
-  const double event_rate = static_cast<double>(now.events_attributed - then->events_attributed) / dt;
+  linear_speed = (now->pose.p_world_camera() - then->pose.p_world_camera()).norm() / dt;
+  const double event_rate = static_cast<double>(now->events_attributed - then->events_attributed) / dt;
   span_s = static_cast<double>(buffer_size) * visible_segments / event_rate;
   return true;
 }

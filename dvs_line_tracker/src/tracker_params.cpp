@@ -123,6 +123,8 @@ dvs_driver::ParamTable trackerParamTable(LineTrackerParams& p, std::string& solv
         "segments re-linearised round robin per solve, skipping one its own events re-linearised within the last n solves (n: map segments; solver incremental)");
   t.add("damping", p.estimator.damping, "", 0, kInf, "Marquardt damping, relative to the diagonal");
   t.add("damping_partial_view", p.damping_partial_view, "", 0, kInf, "damping while part of the map is out of view");
+  t.add("damping_partial_view_rate", p.damping_partial_view_rate, "events/s", 0, 1e9,
+        "below this attributed event rate the partial-view damping falls in proportion to it, down to `damping`: it holds the pose for a time, not for a number of events (0: off)");
   positive("huber_px", p.estimator.huber_px, "px", kInf, "Huber threshold of the residuals");
   t.add("solver", solver_name, {"incremental", "full"}, "one step per event on cached normal equations, or full Gauss-Newton");
   // Quality monitoring.

@@ -51,6 +51,28 @@ TEST(MotionLag, VarianceIsTheRateTimesHalfTheBuffersSpanSquared)
   // Diagonal, and twice the visible segments (the same event rate) fill the buffers in twice the time.
   EXPECT_EQ((c - Matrix6d(c.diagonal().asDiagonal())).norm(), 0.0);
   EXPECT_NEAR(lag.covariance(8, 35)(0, 0), 4 * c(0, 0), 1e-6 * c(0, 0));
+  // The attributed event rate over the same window.
+  EXPECT_NEAR(lag.attributedRate(), kEventsPerSecond, 1e-3 * kEventsPerSecond);
+}
+
+TEST(MotionLag, AttributedRateIsUnknownUntilFiveMillisecondsOfSamples)
+{
+  MotionLag lag;
+  EXPECT_LT(lag.attributedRate(), 0.0) << "no sample";
+  feed(lag, 0.0, 0.003);
+  EXPECT_LT(lag.attributedRate(), 0.0) << "3 ms of samples";
+  feed(lag, 0.0031, 0.003);
+  EXPECT_NEAR(lag.attributedRate(), kEventsPerSecond, 1e-3 * kEventsPerSecond) << "6 ms of samples";
+  // 30 attributed events per millisecond: 30,000 per second.
+  MotionLag slow;
+  for (int k = 0; k <= 10; ++k)
+    slow.sample(k * 1000000, cameraAt(0), static_cast<uint64_t>(k) * 30);
+  EXPECT_NEAR(slow.attributedRate(), 30000.0, 1e-6);
+  // No event attributed over the window: not known (not zero).
+  MotionLag none;
+  for (int k = 0; k <= 10; ++k)
+    none.sample(k * 1000000, cameraAt(0), 5);
+  EXPECT_LT(none.attributedRate(), 0.0);
 }
 
 TEST(MotionLag, NothingIsAddedUntilTheMotionIsKnown)
@@ -64,6 +86,7 @@ TEST(MotionLag, NothingIsAddedUntilTheMotionIsKnown)
   EXPECT_EQ(lag.covariance(0, 35).norm(), 0.0) << "no segment in view";
   lag.reset();
   EXPECT_EQ(lag.covariance(4, 35).norm(), 0.0) << "after a reset (a new track)";
+  EXPECT_LT(lag.attributedRate(), 0.0) << "after a reset";
   // Two samples a second apart say nothing about the current motion.
   lag.sample(0, cameraAt(0), 0);
   lag.sample(1000000000, cameraAt(1), 1000);

@@ -182,6 +182,27 @@ TEST(TrackerParams, ReadmeTableListsEveryParameter)
       << "README.md's node parameter table differs from `track_offline --list-params`";
 }
 
+TEST(EventUpdater, PartialViewDampingFallsWithTheEventRateBelowItsRate)
+{
+  const TrackingGeometry g = dvs128Geometry();
+  LineTrackerParams params;
+  params.estimator.damping = 0.07;
+  params.damping_partial_view = 1.0;
+  params.damping_partial_view_rate = 30000;
+  const EventUpdater updater(g, params);
+  EXPECT_DOUBLE_EQ(updater.partialViewDamping(-1), 1.0) << "rate not known: the full damping";
+  EXPECT_DOUBLE_EQ(updater.partialViewDamping(1e6), 1.0);
+  EXPECT_DOUBLE_EQ(updater.partialViewDamping(30000), 1.0);
+  EXPECT_NEAR(updater.partialViewDamping(15000), 0.07 + 0.93 * 0.5, 1e-12);
+  EXPECT_DOUBLE_EQ(updater.partialViewDamping(0), 0.07) << "no event: down to the usual damping";
+  params.damping_partial_view_rate = 0;
+  EXPECT_DOUBLE_EQ(EventUpdater(g, params).partialViewDamping(100), 1.0) << "off";
+  // A partial-view damping below the usual one: the usual one.
+  params.damping_partial_view = 0.01;
+  params.damping_partial_view_rate = 30000;
+  EXPECT_DOUBLE_EQ(EventUpdater(g, params).partialViewDamping(15000), 0.07);
+}
+
 TEST(EventUpdater, StartsSeedsAndUpdatesOnAttributedEventsOnly)
 {
   const TrackingGeometry g = dvs128Geometry();

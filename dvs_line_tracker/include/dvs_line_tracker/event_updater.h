@@ -37,11 +37,16 @@ public:
 
   /// Refresh what the per-event path leaves stale (called at every quality check): clip the
   /// projections to the image (visibility), drop the stale events of every buffer, and choose
-  /// the damping.
-  void refresh(EstimatorState& state);
+  /// the damping (`attributed_rate_hz`: the attributed events per second lately, negative when
+  /// not known yet; below damping_partial_view_rate the partial-view damping falls with it).
+  void refresh(EstimatorState& state, double attributed_rate_hz = -1);
 
   /// Forget learned evidence and counters.
   void reset();
+
+  /// The damping while part of the map is out of view, at `attributed_rate_hz` (negative: not
+  /// known).
+  double partialViewDamping(double attributed_rate_hz) const;
 
   /// Gauss-Newton steps taken since construction or reset() (at most one per attributed event).
   uint64_t solves() const { return solves_; }

@@ -55,6 +55,8 @@ public:
   /// covariance; false when the motion is not known.
   bool motion(int visible_segments, int buffer_size, double& angular_speed, double& linear_speed,
               double& span_s) const;
+  /// Attributed events per second over the same window; negative when not known.
+  double attributedRate() const;
 
 private:
   void record(int64_t t_ns, const Pose& pose, uint64_t events_attributed);
@@ -65,6 +67,9 @@ private:
     Pose pose;
     uint64_t events_attributed = 0;
   };
+  /// The latest sample and the newest one at least kRateWindowNs older (at most
+  /// kMaxRateWindowNs apart, with events attributed in between); false when there is none.
+  bool window(const Sample*& then, const Sample*& now) const;
   static constexpr int kCapacity = 8;  ///< > kRateWindowNs / kSamplePeriodNs samples
   std::array<Sample, kCapacity> ring_;
   int head_ = 0;  ///< next write

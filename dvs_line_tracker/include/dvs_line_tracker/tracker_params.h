@@ -51,6 +51,10 @@ struct LineTrackerParams
   /// Damping while part of the map is outside the image (fewer, shorter lines constrain the
   /// pose); `estimator.damping` otherwise. Updated at every quality check.
   double damping_partial_view = 1.0;
+  /// Below this many attributed events per second the partial-view damping falls in proportion
+  /// to the rate, down to `estimator.damping`: a per-event prior that holds the pose for a time,
+  /// not for a number of events (a slow camera's pose otherwise trails its motion). 0: off.
+  double damping_partial_view_rate = 30000;
   int buffer_size = 35;              ///< events per segment buffer (thesis: 8; 35 measured most accurate with the motion bound and the later initialiser, BENCHMARKS.md 2026-11-26)
   /// The pose is solved once per this many attributed events; the events in between are
   /// attributed and buffered against the last solved pose, which they report. 1: every event
