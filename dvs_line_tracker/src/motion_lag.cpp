@@ -34,12 +34,15 @@ bool MotionLag::window(const Sample*& then, const Sample*& now) const
   return then && now->t_ns - then->t_ns <= kMaxRateWindowNs && now->events_attributed > then->events_attributed;
 }
 
+double MotionLag::eventsPerSecond(const Sample& then, const Sample& now)
+{
+  return static_cast<double>(now.events_attributed - then.events_attributed) / ((now.t_ns - then.t_ns) * 1e-9);
+}
+
 double MotionLag::attributedRate() const
 {
   const Sample *then, *now;
-  if (!window(then, now))
-    return -1;
-  return static_cast<double>(now->events_attributed - then->events_attributed) / ((now->t_ns - then->t_ns) * 1e-9);
+  return window(then, now) ? eventsPerSecond(*then, *now) : -1;
 }
 
 bool MotionLag::motion(int visible_segments, int buffer_size, double& angular_speed, double& linear_speed,
@@ -53,8 +56,7 @@ bool MotionLag::motion(int visible_segments, int buffer_size, double& angular_sp
   const Eigen::AngleAxisd turn(now->pose.R_camera_world * then->pose.R_world_camera());
   angular_speed = std::abs(turn.angle()) / dt;
   linear_speed = (now->pose.p_world_camera() - then->pose.p_world_camera()).norm() / dt;
-  const double event_rate = static_cast<double>(now->events_attributed - then->events_attributed) / dt;
-  span_s = static_cast<double>(buffer_size) * visible_segments / event_rate;
+  span_s = static_cast<double>(buffer_size) * visible_segments / eventsPerSecond(*then, *now);
   return true;
 }
 

@@ -530,7 +530,7 @@ TEST(EventUpdater, ReusesTheFactorOfTheInformationWhileItChangesLittle)
   }
   // A quality check may change the damping and the visibility: the next solve factors anew.
   const uint64_t before = updaters[1].factorizations();
-  updaters[1].refresh(states[1]);
+  updaters[1].refresh(states[1], -1);  // (the event rate not known)
   ASSERT_TRUE(updaters[1].update(states[1], event(400), true, 0.0, t));
   EXPECT_EQ(updaters[1].factorizations(), before + 1);
 }

@@ -39,7 +39,7 @@ public:
   /// projections to the image (visibility), drop the stale events of every buffer, and choose
   /// the damping (`attributed_rate_hz`: the attributed events per second lately, negative when
   /// not known yet; below damping_partial_view_rate the partial-view damping falls with it).
-  void refresh(EstimatorState& state, double attributed_rate_hz = -1);
+  void refresh(EstimatorState& state, double attributed_rate_hz);
 
   /// Forget learned evidence and counters.
   void reset();

@@ -70,6 +70,8 @@ private:
   /// The latest sample and the newest one at least kRateWindowNs older (at most
   /// kMaxRateWindowNs apart, with events attributed in between); false when there is none.
   bool window(const Sample*& then, const Sample*& now) const;
+  /// Attributed events per second from `then` to `now`.
+  static double eventsPerSecond(const Sample& then, const Sample& now);
   static constexpr int kCapacity = 8;  ///< > kRateWindowNs / kSamplePeriodNs samples
   std::array<Sample, kCapacity> ring_;
   int head_ = 0;  ///< next write
