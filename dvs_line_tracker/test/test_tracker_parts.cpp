@@ -69,6 +69,7 @@ TEST(TrackerParams, TableNamesTheBadParameterAndItsBounds)
   p.loss_silent_side_ratio = 1.5;
   p.solve_min_offset_px = -0.1;
   p.reacquire_capture_px = -1;
+  p.damping_partial_view_rate = -5;
   const std::string err = validateParams(p);
   EXPECT_NE(err.find("buffer_size must be in [2, 1024] events (got 1)"), std::string::npos) << err;
   EXPECT_NE(err.find("hough_radius_bin_px must be in [0.1, 100] px"), std::string::npos) << err;
@@ -83,6 +84,7 @@ TEST(TrackerParams, TableNamesTheBadParameterAndItsBounds)
   EXPECT_NE(err.find("loss_silent_side_ratio must be in [0, 1] (got 1.5)"), std::string::npos) << err;
   EXPECT_NE(err.find("solve_min_offset_px must be >= 0 px (got -0.1)"), std::string::npos) << err;
   EXPECT_NE(err.find("reacquire_capture_px must be in [0, 1000] px (got -1)"), std::string::npos) << err;
+  EXPECT_NE(err.find("damping_partial_view_rate must be in [0, 1e+09] events/s (got -5)"), std::string::npos) << err;
   EXPECT_THROW(LineTracker(dvs_calibration::CameraModel::dvs128(), defaultSquareMap(), p), std::invalid_argument);
 }
 
