@@ -646,7 +646,7 @@ TEST_F(LossMonitorTest, NamesWhyTheTrackIsLost)
 }
 
 // partial_view_grace_s: two sides meeting at a corner may be all that is in view for that long
-// (event time); parallel sides, one side, or longer: lost. The default (0) loses at once.
+// (event time); parallel sides, one side, or longer: lost. 0 loses at once.
 TEST_F(LossMonitorTest, ABriefPartialViewOnACornerIsNoLoss)
 {
   const int n = params.quality_check_interval;
@@ -659,6 +659,7 @@ TEST_F(LossMonitorTest, ABriefPartialViewOnACornerIsNoLoss)
       state.projected[i].visible = std::find(sides.begin(), sides.end(), static_cast<int>(i)) != sides.end();
   };
   ASSERT_EQ(state.projected.size(), 4u);  // the square's sides in order: 0 and 1 meet, 0 and 2 are parallel
+  params.partial_view_grace_s = 0;
   LossMonitor at_once(params, 0, 0, 500);
   showOnly({0, 1});
   EXPECT_EQ(check(at_once, 1.0), "segments left the view (2 visible)");

@@ -147,7 +147,7 @@ struct LineTrackerParams
   /// time): the track is held (the estimate goes on, no pose is reported) and resumes when a third
   /// side comes back (a corner of the map briefly alone in view, as in a fast flip); lost after
   /// it, from the pose before the partial view. 0: lost at once.
-  double partial_view_grace_s = 0.0;
+  double partial_view_grace_s = 0.05;
   double max_mean_residual_px = 1.5; ///< mean |point-to-line| distance over the buffers above this -> lost
   double min_attributed_ratio = 0.02;///< attributed / all events in a check interval below this -> lost
   /// ... and no more than 1.5x chance, and at least this share of the events not attributed
