@@ -211,6 +211,9 @@ SweepResult runSweepScene(const SweepScene& s, const LineTrackerParams& params)
   }
   r.tracker_cpu_s = threadCpuSeconds() - c0;
   r.losses = static_cast<int>(tracker.stats().losses);
+  r.partial_views_held = tracker.stats().partial_views_held;
+  r.partial_views_resumed = tracker.stats().partial_views_resumed;
+  r.partial_view_held_s = tracker.stats().partial_view_held_s;
   r.events_outside_sensor = tracker.stats().events_outside_sensor;
   r.init_stats = tracker.initializerStats();
   r.last_loss_reason = tracker.lastLossReason();

@@ -29,6 +29,10 @@ struct SweepResult
   int initializations = 0;         ///< first poses and re-initialisations
   int false_initializations = 0;   ///< of those, further than 10 % of the distance or 10 deg from the truth
   int losses = 0;
+  /// Partial views held (a corner only in view, partial_view_grace_s), those resumed, and the
+  /// event time held (TrackerStats).
+  uint64_t partial_views_held = 0, partial_views_resumed = 0;
+  double partial_view_held_s = 0;
   double tracked_fraction = 0;     ///< ground-truth samples from the first pose on with >= 3 edges in view
   double rms_position_m = 0, rms_orientation_deg = 0;
   double max_position_m = 0;

@@ -105,6 +105,7 @@ void LineTracker::reset()
   initializer_.reset();
   updater_.reset();
   monitor_.restart();
+  hold_since_ns_ = -1;
   edge_model_ = EdgeRunModel(camera_.width(), camera_.height(), edgeModelParams(params_));
   estimator_.resize(geometry_.map.segments.size(), params_.buffer_size);
   status_ = TrackerState::kInitializing;
@@ -118,6 +119,7 @@ void LineTracker::reset()
 void LineTracker::restartAfterTimeJump(int64_t t_ns)
 {
   const double back_s = (now_ns_ - t_ns) * 1e-9;
+  endPartialView(now_ns_, false);
   TrackerStats kept = stats_;
   reset();
   stats_ = kept;
@@ -194,8 +196,6 @@ bool LineTracker::processEvent(const dvs_driver::Event& e)
     updater_.refresh(estimator_, lag_.attributedRate());
     const bool was_held = monitor_.partialViewHeld();
     const std::string reason = monitor_.check(estimator_, e.t_ns);
-    if (!was_held && monitor_.partialViewHeld())
-      held_pose_ = estimator_.pose;
     if (!reason.empty())
     {
       // A partial view that outlasted partial_view_grace_s: the pose before it is the prior
@@ -204,10 +204,18 @@ bool LineTracker::processEvent(const dvs_driver::Event& e)
         estimator_.pose = held_pose_;
       declareLost(reason);
     }
+    else if (!was_held && monitor_.partialViewHeld())
+    {
+      held_pose_ = estimator_.pose;
+      hold_since_ns_ = e.t_ns;
+      ++stats_.partial_views_held;
+    }
+    else if (was_held && !monitor_.partialViewHeld())
+      endPartialView(e.t_ns, true);
   }
   // While only a corner is in view (partial_view_grace_s) the estimate goes on but reports no
   // pose: it resumes when a third side comes back, or the track is lost when none does.
-  const bool held = status_ == TrackerState::kTracking && monitor_.partialViewHeld();
+  const bool held = partialViewHeld();
   if (updated)
   {
     ++stats_.events_attributed;
@@ -241,6 +249,7 @@ void LineTracker::setPose(const Pose& pose)
 bool LineTracker::startTracking(const Pose& pose)
 {
   const int visible = updater_.start(estimator_, pose);
+  endPartialView(now_ns_, false);
   monitor_.restart();
   if (visible < params_.min_visible_segments)
     return false;
@@ -261,8 +270,18 @@ Matrix6d LineTracker::visionOnlyPoseCovariance() const
   return visionPoseCovariance(estimator_) * kVisionOnlyCovarianceScale + motionLagCovariance();
 }
 
+void LineTracker::endPartialView(int64_t t_ns, bool resumed)
+{
+  if (hold_since_ns_ < 0)
+    return;
+  stats_.partial_view_held_s += (t_ns - hold_since_ns_) * 1e-9;
+  stats_.partial_views_resumed += resumed ? 1 : 0;
+  hold_since_ns_ = -1;
+}
+
 void LineTracker::declareLost(const std::string& reason)
 {
+  endPartialView(now_ns_, false);
   status_ = TrackerState::kLost;
   last_loss_reason_ = reason;
   ++stats_.losses;

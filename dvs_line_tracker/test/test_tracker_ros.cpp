@@ -272,6 +272,21 @@ TEST(TrackerRos, TracksASimulatedBag)
       imu_message = kv.value;
   }
   EXPECT_EQ(imu_status, "OK") << "the IMU is not fused at the end: " << imu_message;
+  // The partial-view hold (a corner only in view: no pose for up to partial_view_grace_s) is
+  // reported: not held at the end, its counters consistent.
+  std::string held_now;
+  unsigned long long held = 0, resumed = 0;
+  bool have_held = false;
+  for (const auto& kv : rx.diagnostics.back().values)
+  {
+    if (kv.key == "partial view held now (no pose)")
+      held_now = kv.value;
+    if (kv.key == "partial views held / resumed")
+      have_held = std::sscanf(kv.value.c_str(), "%llu / %llu", &held, &resumed) == 2;
+  }
+  EXPECT_EQ(held_now, "no");
+  EXPECT_TRUE(have_held);
+  EXPECT_LE(resumed, held);
   // The initialiser's counters (why there was no pose before the first one).
   unsigned long long voted = 0, offered = 0;
   bool have_init = false;

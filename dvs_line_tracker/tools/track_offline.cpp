@@ -384,14 +384,16 @@ int main(int argc, char** argv)
         "\"reinitializations\": %llu, \"losses\": %llu, \"last_loss_reason\": %s, \"events_outside_sensor\": %llu, "
         "\"final_state\": \"%s\", "
         "\"processing_seconds\": %.6f, \"input\": {%s}, "
-        "\"events_per_second\": %.0f, \"initializer\": %s, \"gaps_bridged\": %llu, \"imu\": %s}\n",
+        "\"events_per_second\": %.0f, \"initializer\": %s, \"gaps_bridged\": %llu, "
+        "\"partial_views_held\": %llu, \"partial_views_resumed\": %llu, \"partial_view_held_s\": %.4f, \"imu\": %s}\n",
         stream.events.size(), static_cast<unsigned long long>(st.events_attributed),
         static_cast<unsigned long long>(st.pose_updates), static_cast<unsigned long long>(st.initializations),
         static_cast<unsigned long long>(st.reinitializations), static_cast<unsigned long long>(st.losses),
         dvs_driver::jsonString(tracker.lastLossReason()).c_str(), static_cast<unsigned long long>(st.events_outside_sensor), toString(tracker.state()), seconds,
         input_checks.json().c_str(), seconds > 0 ? stream.events.size() / seconds : 0.0,
         tracker.initializerStats().json().c_str(), static_cast<unsigned long long>(st.gaps_bridged),
-        propagator ? imuJson(*propagator).c_str() : "null");
+        static_cast<unsigned long long>(st.partial_views_held), static_cast<unsigned long long>(st.partial_views_resumed),
+        st.partial_view_held_s, propagator ? imuJson(*propagator).c_str() : "null");
     return 0;
   }
   catch (const std::exception& e)

@@ -42,6 +42,12 @@ struct TrackerStats
   uint64_t losses = 0;
   uint64_t time_jumps = 0;          ///< restarts because event time went backwards
   uint64_t gaps_bridged = 0;        ///< event-free gaps longer than max_event_gap carried by the propagator (IMU)
+  /// Partial views held (partial_view_grace_s: only two sides meeting at a corner in view; the
+  /// estimate goes on, no pose is reported), those of them that ended with a third side back in
+  /// view (the rest ended in a loss), and the event time spent in them.
+  uint64_t partial_views_held = 0;
+  uint64_t partial_views_resumed = 0;
+  double partial_view_held_s = 0;
 };
 
 class LineTracker
@@ -58,6 +64,9 @@ public:
   bool processEvent(const dvs_driver::Event& event);
 
   TrackerState state() const { return status_; }
+  /// Tracking, but only a corner of the map is in view: the track is held (partial_view_grace_s)
+  /// and no pose is reported until a third side comes back or the track is lost.
+  bool partialViewHeld() const { return status_ == TrackerState::kTracking && hold_since_ns_ >= 0; }
   const Pose& pose() const { return estimator_.pose; }
   const TrackerStats& stats() const { return stats_; }
   /// Why the track was last lost ("" if never).
@@ -99,6 +108,8 @@ private:
   /// Event time went back: forget everything time-dependent, keep the counters, say why.
   void restartAfterTimeJump(int64_t t_ns);
   void declareLost(const std::string& reason);
+  /// A partial view that was held ends at `t_ns` (counted in the stats).
+  void endPartialView(int64_t t_ns, bool resumed);
 
   /// Feeds the remembered events since `since_ns` through the per-event update (init_catch_up).
   void catchUp(int64_t since_ns);
@@ -123,6 +134,7 @@ private:
   EventUpdater updater_;
   LossMonitor monitor_;
   Pose held_pose_;  ///< the pose when a partial view began (partial_view_grace_s)
+  int64_t hold_since_ns_ = -1;  ///< event time the partial view held now began (-1: none)
   MotionLag lag_;
   std::shared_ptr<StatePropagator> propagator_;
 

@@ -110,6 +110,7 @@ private:
   uint64_t events_since_diag_ = 0, updates_since_diag_ = 0;
   ros::WallTime last_diag_ = ros::WallTime::now();
   TrackerState last_state_ = TrackerState::kInitializing;
+  bool last_held_ = false;  ///< the ~state last published said "partial view held"
   uint64_t reported_outside_ = 0, reported_time_jumps_ = 0;
 };
 }  // namespace dvs_line_tracker

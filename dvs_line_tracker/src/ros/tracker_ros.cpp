@@ -21,6 +21,9 @@ namespace dvs_line_tracker
 {
 namespace
 {
+/// Appended to the state (~state, the diagnostics' message) while a partial view is held.
+const char* const kPartialViewHeldNote = ": partial view held (a corner only in view), no pose";
+
 geometry_msgs::Pose toPoseMsg(const Pose& pose)
 {
   geometry_msgs::Pose p;
@@ -451,19 +454,28 @@ void TrackerRos::reportInputProblems()
 
 void TrackerRos::publishPacket(const dvs_msgs::EventArray& msg, int64_t last_update_ns, bool any_update)
 {
-  if (tracker_->state() != last_state_)
+  if (tracker_->state() != last_state_ || tracker_->partialViewHeld() != last_held_)
   {
+    const bool state_changed = tracker_->state() != last_state_;
     last_state_ = tracker_->state();
+    last_held_ = tracker_->partialViewHeld();
     std_msgs::String state;
     state.data = toString(last_state_);
     if (last_state_ == TrackerState::kLost)
       state.data += ": " + tracker_->lastLossReason();
+    if (last_held_)
+      state.data += kPartialViewHeldNote;
     state_pub_.publish(state);
-    if (last_state_ == TrackerState::kLost)
-      ROS_WARN("dvs_line_tracker: track lost (%s), re-initialising", tracker_->lastLossReason().c_str());
-    else
-      ROS_INFO("dvs_line_tracker: %s", toString(last_state_));
-    diagnostics_.force_update();
+    // A held partial view lasts at most partial_view_grace_s: ~state and the diagnostics'
+    // counters say so, the log does not (a chaotic flip can hold several a second).
+    if (state_changed)
+    {
+      if (last_state_ == TrackerState::kLost)
+        ROS_WARN("dvs_line_tracker: track lost (%s), re-initialising", tracker_->lastLossReason().c_str());
+      else
+        ROS_INFO("dvs_line_tracker: %s", toString(last_state_));
+      diagnostics_.force_update();
+    }
   }
   if (any_update && tracker_->state() == TrackerState::kTracking)
   {
@@ -584,6 +596,13 @@ void TrackerRos::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat)
   stat.add("events outside the sensor", st.events_outside_sensor);
   stat.add("restarts after time went back", st.time_jumps);
   stat.add("gaps bridged by the IMU", st.gaps_bridged);
+  // A corner only in view: the track is held without a pose for up to partial_view_grace_s.
+  stat.add("partial view held now (no pose)", tracker_->partialViewHeld() ? "yes" : "no");
+  stat.add("partial views held / resumed", std::to_string(st.partial_views_held) + " / " +
+                                               std::to_string(st.partial_views_resumed));
+  stat.add("partial views: time held [s]", st.partial_view_held_s);
+  if (tracker_->partialViewHeld())
+    stat.summary(diagnostic_msgs::DiagnosticStatus::OK, std::string(toString(s)) + kPartialViewHeldNote);
   // While there is no pose, say why (the stage that stops the detections), not only the state.
   const InitializerStats& is = tracker_->initializerStats();
   stat.add("initialiser: events voted / offered", std::to_string(is.events_voted) + " / " + std::to_string(is.events));
