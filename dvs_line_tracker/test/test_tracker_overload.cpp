@@ -5,6 +5,7 @@
 // queueing), the skipped events are reported in diagnostics, and the tracker keeps tracking.
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include "camera_info_latch.h"
+#include "diagnostic_value.h"
 #include <dvs_driver/event_bag_io.h>
 #include <dvs_line_tracker/line_map.h>
 #include <dvs_line_tracker/line_tracker.h>
@@ -50,13 +51,6 @@ double coreEventsPerSecond(const dvs_screen_sim::SimConfig& config, const dvs_dr
   return events.size() / std::max(1e-6, s);
 }
 
-std::string diagnosticValue(const diagnostic_msgs::DiagnosticStatus& s, const std::string& key)
-{
-  for (const auto& kv : s.values)
-    if (kv.key == key)
-      return kv.value;
-  return "";
-}
 }  // namespace
 
 TEST(TrackerOverload, ThreeTimesRealTimeKeepsTheLatencyBounded)
