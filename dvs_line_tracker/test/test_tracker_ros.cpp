@@ -262,10 +262,11 @@ TEST(TrackerRos, TracksASimulatedBag)
   // Named after the tracker, not after the process (a nodelet manager).
   for (const auto& name : rx.diagnostic_names)
     EXPECT_EQ(name.rfind("dvs_line_tracker: ", 0), 0u) << name;
-  // The IMU is fused. On a loaded machine the ROS transport can deliver the IMU samples late or
-  // the tracker re-initialise; the IMU is then set aside and checked against the vision again
-  // (50 agreeing updates) before it is fused again, and the bag may end before that: then the
-  // end must be that re-check after a reported fallback, never a stream set aside for good.
+  // The IMU is fused. On a loaded machine the tracker falls behind (it tracks every n-th event or
+  // skips events, and says so) and the IMU samples can arrive more than imu_max_latency behind
+  // the events: the IMU is then set aside (LATE) and checked against the vision again (50
+  // agreeing updates) before it is fused again, and the bag may end before that. Only then may
+  // the end be other than fused: a reported fallback, late or re-checking, under reported load.
   std::string imu_history;  // the IMU states the diagnostics went through, for the message
   bool imu_fused_once = false;
   for (const auto& d : rx.diagnostics)
@@ -279,8 +280,10 @@ TEST(TrackerRos, TracksASimulatedBag)
   EXPECT_TRUE(imu_fused_once) << "the IMU was never fused: " << imu_history << "; " << imu_message;
   if (imu_status != "OK")
   {
-    EXPECT_EQ(imu_status, "CHECKING") << imu_history << "; " << imu_message;
+    EXPECT_TRUE(imu_status == "CHECKING" || imu_status == "LATE") << imu_history << "; " << imu_message;
     EXPECT_GE(diagnosticCount(last, "IMU fallbacks to vision"), 1u) << imu_history << "; " << imu_message;
+    EXPECT_GT(diagnosticCount(last, "overload: packets tracked with a stride") + eventsLeftOut(last), 0u)
+        << "the IMU fell back with the tracker keeping up: " << imu_history << "; " << imu_message;
     ::testing::Test::RecordProperty("imu_not_fused_at_end", imu_history + "; " + imu_message);
   }
   // The partial-view hold (a corner only in view: no pose for up to partial_view_grace_s) is
