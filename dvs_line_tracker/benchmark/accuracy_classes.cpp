@@ -3,7 +3,10 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <dvs_line_tracker/imu_propagator.h>
+
 #include <chrono>
+#include <memory>
 #include <stdexcept>
 
 namespace dvs_line_tracker
@@ -113,19 +116,33 @@ AccuracyScene simulateAccuracyScene(const AccuracyClass& c, uint64_t seed)
   return s;
 }
 
-AccuracyRun runAccuracyScene(const AccuracyScene& s, const LineTrackerParams& params, dvs_calibration::Trajectory* out)
+AccuracyRun runAccuracyScene(const AccuracyScene& s, const LineTrackerParams& params, dvs_calibration::Trajectory* out,
+                             bool use_imu)
 {
   LineTracker tracker(s.config.camera, s.map, params);
+  std::shared_ptr<ImuPropagator> imu;
+  if (use_imu)
+  {
+    imu = std::make_shared<ImuPropagator>(params.imu);
+    tracker.setPropagator(imu);
+  }
   dvs_calibration::Trajectory local;
   dvs_calibration::Trajectory& estimates = out ? *out : local;
   estimates.clear();
   estimates.reserve(s.output.events.size());
+  size_t next_imu = 0;
   const double t0 = threadCpuSeconds();
   for (const auto& e : s.output.events)
+  {
+    for (; imu && next_imu < s.output.imu.size() && s.output.imu[next_imu].t_ns <= e.t_ns; ++next_imu)
+      imu->addSample(s.output.imu[next_imu]);
     if (tracker.processEvent(e))
       estimates.push_back({e.t_ns * 1e-9, tracker.pose()});
+  }
   AccuracyRun r;
   r.tracker_cpu_s = threadCpuSeconds() - t0;
+  if (imu)
+    r.imu_status = toString(imu->status());
   r.events = s.output.events.size();
   r.stats = tracker.stats();
   r.accuracy = dvs_calibration::evaluateTrajectory(estimates, s.ground_truth, 0.05);

@@ -51,11 +51,15 @@ struct AccuracyRun
   TrackerStats stats;
   uint64_t events = 0;
   double tracker_cpu_s = 0;  ///< thread CPU time of the event loop over the whole run
+  std::string imu_status;    ///< with the IMU: its status at the end (imu_propagator.h), else empty
 };
 
 /// Tracks every event of the scene; the pose in force after each update is the estimate.
+/// `use_imu`: the simulated IMU's samples fused (ImuPropagator with params.imu), each given to
+/// the tracker before the first event after it, as the nodelet does; the run's IMU status at the
+/// end goes to AccuracyRun::imu_status.
 AccuracyRun runAccuracyScene(const AccuracyScene& scene, const LineTrackerParams& params,
-                             dvs_calibration::Trajectory* estimates = nullptr);
+                             dvs_calibration::Trajectory* estimates = nullptr, bool use_imu = false);
 
 /// Wall-clock time [s] of every processEvent call that updated the pose, after the first pose
 /// (the per-event processing latency while tracking).

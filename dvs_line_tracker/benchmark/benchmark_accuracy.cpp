@@ -4,7 +4,8 @@
 // Prints one row per class and seed and a summary per class (median and worst over the seeds).
 //
 //   rosrun dvs_line_tracker benchmark_accuracy [--seeds 1-5] [--class KEY[,KEY...]] [--jobs 2]
-//                                              [--params tracker.yaml] [--out DIR]
+//                                              [--params tracker.yaml] [--out DIR] [--imu]
+// --imu: the simulator's IMU fused (the tracker's ImuPropagator, imu_* parameters from --params).
 #include "accuracy_classes.h"
 #include "benchmark_tool.h"
 #include "benchmark_stats.h"
@@ -34,6 +35,7 @@ void usage()
                "usage: benchmark_accuracy [--seeds A-B (default 1-5)] [--class KEY[,KEY...] (default: all)]\n"
                "       [--jobs J (1-16, default 2)] [--params tracker.yaml (as track_offline --params)]\n"
                "       [--out DIR (write each run's estimate and ground truth, TUM format)]\n"
+               "       [--imu (fuse the simulated IMU: the tracker's ImuPropagator with the imu_* parameters)]\n"
                "classes: %s\n",
                keys.c_str());
 }
@@ -52,6 +54,7 @@ int main(int argc, char** argv)
   int seed_from = 1, seed_to = 5, jobs = 2;
   std::vector<const AccuracyClass*> classes;
   std::string out_dir;
+  bool use_imu = false;
   LineTrackerParams params;
   for (int i = 1; i < argc; ++i)
   {
@@ -79,6 +82,8 @@ int main(int argc, char** argv)
         loadTrackerParamsYaml(argv[++i], params);
       else if (ok && arg == "--out")
         out_dir = argv[++i];
+      else if (arg == "--imu")
+        ok = use_imu = true;
       else
         ok = false;
     }
@@ -109,7 +114,7 @@ int main(int argc, char** argv)
     {
       const AccuracyScene scene = simulateAccuracyScene(*j.cls, static_cast<uint64_t>(j.seed));
       dvs_calibration::Trajectory estimates;
-      j.run = runAccuracyScene(scene, params, &estimates);
+      j.run = runAccuracyScene(scene, params, &estimates, use_imu);
       if (!out_dir.empty())
       {
         const std::string stem = out_dir + "/" + j.cls->key + "_seed" + std::to_string(j.seed);
@@ -124,8 +129,9 @@ int main(int argc, char** argv)
     std::fprintf(stderr, "%s seed %d done\n", j.cls->key.c_str(), j.seed);
   });
 
-  std::printf("## Accuracy per class and seed\n\n| class | seed | events | first pose [s] | RMS [cm / deg] | "
-              "max [cm / deg] | tracked | losses | tracker M events/s (CPU) |\n|---|---|---|---|---|---|---|---|---|\n");
+  std::printf("## Accuracy per class and seed%s\n\n| class | seed | events | first pose [s] | RMS [cm / deg] | "
+              "max [cm / deg] | tracked | losses | tracker M events/s (CPU) |%s\n|---|---|---|---|---|---|---|---|---|%s\n",
+              use_imu ? ", the simulated IMU fused" : "", use_imu ? " IMU at the end |" : "", use_imu ? "---|" : "");
   for (const auto& j : work)
   {
     if (!j.error.empty())
@@ -134,16 +140,17 @@ int main(int argc, char** argv)
       continue;
     }
     const auto& a = j.run.accuracy;
-    std::printf("| %s | %d | %llu | %.3f | %.2f / %.2f | %.1f / %.1f | %.1f %% | %llu | %.2f |\n", j.cls->key.c_str(),
+    std::printf("| %s | %d | %llu | %.3f | %.2f / %.2f | %.1f / %.1f | %.1f %% | %llu | %.2f |%s%s\n", j.cls->key.c_str(),
                 j.seed, static_cast<unsigned long long>(j.run.events), a.first_estimate_s, 100 * a.rms_position_m,
                 a.rms_orientation_rad * kDeg, 100 * a.max_position_m, a.max_orientation_rad * kDeg,
                 100 * a.trackedFraction(), static_cast<unsigned long long>(j.run.stats.losses),
-                j.run.events / std::max(1e-9, j.run.tracker_cpu_s) / 1e6);
+                j.run.events / std::max(1e-9, j.run.tracker_cpu_s) / 1e6, use_imu ? " " : "",
+                use_imu ? (j.run.imu_status + " |").c_str() : "");
   }
-  std::printf("\n## Summary (seeds %d-%d: median, worst in brackets)\n\n| class | RMS position [cm] | RMS orientation "
+  std::printf("\n## Summary (seeds %d-%d: median, worst in brackets%s)\n\n| class | RMS position [cm] | RMS orientation "
               "[deg] | max position [cm] | tracked | M events/s | issue: before | issue: target |\n"
               "|---|---|---|---|---|---|---|---|\n",
-              seed_from, seed_to);
+              seed_from, seed_to, use_imu ? "; the simulated IMU fused" : "");
   int failed = 0;
   for (const auto* c : classes)
   {

@@ -95,6 +95,7 @@ void EstimatorState::resize(size_t segments, int buffer_size)
   equations.assign(segments, SegmentNormalEquations());
   x_accumulated.setZero();
   damping = 0;
+  partial_view = false;
 }
 
 void EstimatorState::clear()

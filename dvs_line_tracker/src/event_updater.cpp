@@ -28,6 +28,7 @@ int EventUpdater::start(EstimatorState& state, const Pose& pose)
 {
   state.pose = pose;
   state.damping = params_.estimator.damping;
+  state.partial_view = false;
   state.x_accumulated.setZero();
   project(state, true);
   dark_side_.restart(state.projected);
@@ -289,6 +290,7 @@ void EventUpdater::refresh(EstimatorState& state, double attributed_rate_hz)
   bool partial = false;
   for (const auto& s : state.projected)
     partial |= !s.in_front || s.visible_length < s.length - 1.0;
+  state.partial_view = partial;
   state.damping = partial ? partialViewDamping(attributed_rate_hz) : params_.estimator.damping;
   // Visibility and damping may have changed: the next solve assembles the information anew.
   factor_.valid = false;

@@ -1,4 +1,5 @@
 #include <dvs_line_tracker/imu_propagator.h>
+#include <dvs_line_tracker/pose_estimator.h>
 
 #include <Eigen/Cholesky>
 
@@ -25,6 +26,7 @@ constexpr double kCheckedBiasSigmas = 2.0;    // an estimated gravity is confirm
 const char* const kCheckingGravity = "checking the estimated gravity: gyroscope only until then";
 constexpr double kGate = 200.0;               // chi2 (6 dof) of an update's innovation, at most
 constexpr int64_t kDistrustNs = 2000000000;   // vision alone this long after an absurd stream / disagreement
+constexpr double kOptimumDamping = 1e-6;      // the vision's measurement: Gauss-Newton, damped only against a singular information
 
 const ImuExtrinsics& parsed(const ImuFusionParams& p, ImuExtrinsics& out)
 {
@@ -268,11 +270,34 @@ void ImuPropagator::advanceTo(int64_t t_ns)
   cursor_.meanTo(ekf_, t_ns);
 }
 
+Pose ImuPropagator::visionMeasurement(const EstimatorState& state)
+{
+  // The tracker's pose is the filter's previous estimate plus one update period of damped
+  // per-event steps: in a weakly observable direction (the lateral translation / rotation pair
+  // of a far target) only a small part of what the buffered events say. Taken as the
+  // measurement, the filter moved by its gain times that part, and a first pose's error there
+  // stayed for seconds (a slow camera 2-4 m from a square: 2-3x the error of vision alone, 0-25 %
+  // of the time tracked; BENCHMARKS.md, fortieth session). So the measurement is where the
+  // buffered events put the camera: one undamped Gauss-Newton step on their normal equations,
+  // whose covariance is the one the filter is given. Except in a partial view: there the events
+  // do not constrain that pair (part of the map is out of view), the undamped step follows the
+  // model's errors at the image border, and the tracker's stronger damping is what holds the
+  // pair steady (the 1.4 m flips, whose partial phases it was made for, lost 10 % of their
+  // accuracy and twice the error after a blackout with the undamped step there).
+  Pose measured = state.pose;
+  Vector6d delta;
+  if (!state.partial_view && solveStep(state.equations.data(), static_cast<int>(state.equations.size()),
+                                       state.x_accumulated, kOptimumDamping, delta))
+    measured.applyCameraIncrement(delta);
+  return measured;
+}
+
 void ImuPropagator::updateWithVision(EstimatorState& state)
 {
   cursor_.flushCovariance(ekf_);
   vision_covariance_ = visionPoseCovariance(state);
-  const double chi2 = ekf_.updateCameraPose(state.pose, vision_covariance_ * params_.vision_covariance_scale, kGate);
+  const Pose measured = visionMeasurement(state);
+  const double chi2 = ekf_.updateCameraPose(measured, vision_covariance_ * params_.vision_covariance_scale, kGate);
   ++stats_.updates;
   t_last_update_ = cursor_.t_ns;
   const bool rejected = !(chi2 <= kGate);
@@ -305,7 +330,7 @@ void ImuPropagator::updateWithVision(EstimatorState& state)
     ekf_.start(state.pose, cursor_.sample.accel, ImuEkf::Keep::kGyroBias);
     rejectGravity(ba);
   }
-  checkGravity(state);
+  checkGravity(measured);
   const bool agrees = !rejected && nis_mean_ < kAgreeNis;
   if (trusted_ && !agrees)
   {
@@ -369,14 +394,14 @@ void ImuPropagator::rejectGravity(double accel_bias)
     setFusedStatus();
 }
 
-void ImuPropagator::checkGravity(const EstimatorState& state)
+void ImuPropagator::checkGravity(const Pose& measured)
 {
   if (!checking_gravity_)
     return;
   gravity_cursor_.meanTo(gravity_check_, cursor_.t_ns);
   gravity_cursor_.flushCovariance(gravity_check_);
   const double chi2 =
-      gravity_check_.updateCameraPose(state.pose, vision_covariance_ * params_.vision_covariance_scale, kGate);
+      gravity_check_.updateCameraPose(measured, vision_covariance_ * params_.vision_covariance_scale, kGate);
   const double ba = gravity_check_.accelBias().norm();
   if (ba > kBiasSigmas * params_.initial_accel_bias_sigma)
   {

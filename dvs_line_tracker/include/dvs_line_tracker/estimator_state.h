@@ -58,6 +58,7 @@ struct EstimatorState
   std::vector<SegmentBuffer> buffers;              ///< per segment: its recent events
   std::vector<SegmentNormalEquations> equations;   ///< per segment: its normal equations
   double damping = 0;                              ///< in force (normal or partial view)
+  bool partial_view = false;                       ///< part of the map outside the image or behind the camera (the partial view's damping in force)
 
   /// Sized for `segments` map segments, buffers of `buffer_size` events, everything cleared.
   void resize(size_t segments, int buffer_size);

@@ -3,9 +3,10 @@
 // from event to event with an IMU (ROS-free):
 //  - before each event's vision update, the filter (ImuEkf) is advanced through the IMU samples
 //    to the event's time and the tracker's pose moves with it (per event: the filter's mean only);
-//  - every `update_period`, the tracker's pose (the vision's estimate since the last update) is
-//    the filter's measurement, with the vision's own covariance (scaled); the tracker then
-//    continues from the filter's estimate;
+//  - every `update_period`, where the buffered events put the camera (one undamped Gauss-Newton
+//    step from the tracker's pose on their normal equations; in a partial view the tracker's
+//    pose) is the filter's measurement, with the vision's own covariance (scaled); the tracker
+//    then continues from the filter's estimate;
 //  - through an event-free gap the IMU alone carries the pose (LineTracker re-seeds its buffers at
 //    the predicted pose, no loss) for at most `max_bridge`;
 //  - after every (re)start the filter first runs beside the vision without moving its pose, and
@@ -135,7 +136,10 @@ private:
   void setFusedStatus();
   /// While an estimated gravity is checked: the checking filter's vision update, then confirmed
   /// (ekf_ continues with the accelerometer) or rejected (gyroscope only until the next start).
-  void checkGravity(const EstimatorState& state);
+  void checkGravity(const Pose& measured);
+  /// The vision's measurement for the filter: where the buffered events put the camera (the
+  /// tracker's pose in a partial view).
+  static Pose visionMeasurement(const EstimatorState& state);
   /// The estimated gravity is wrong: gyroscope only until the next start, said why.
   void rejectGravity(double accel_bias);
   bool plausible(const Sample& s);
