@@ -124,19 +124,30 @@ void ImuEkf::propagateCovariance(const Eigen::Vector3d& gyro, const Eigen::Vecto
   if (dt <= 0)
     return;
   const Eigen::Matrix3d R = q_.toRotationMatrix();
-  // F = I + A dt (first order; dt is one IMU sample period).
-  MatrixNd F = MatrixNd::Identity();
-  F.block<3, 3>(kP, kV).diagonal().setConstant(dt);
+  // F = I + A dt (first order; dt is one IMU sample period) has five 3x3 blocks besides the
+  // identity: F P F^T as block row, then block column operations (the dense 18x18 products were
+  // a third of the tracker's time with an IMU, BENCHMARKS.md, fortieth session).
+  const bool gravity = use_accelerometer_ && !x_->gravity_world;
+  const Eigen::Matrix3d F_v_theta = -R * skew(accel - ba_) * dt, F_v_ba = -R * dt;
+  const Eigen::Matrix3d F_theta = expQ(-(gyro - bg_) * dt).toRotationMatrix();
+  MatrixNd A = P_;  // F P
+  A.middleRows<3>(kP) += dt * P_.middleRows<3>(kV);
   if (use_accelerometer_)
   {
-    F.block<3, 3>(kV, kTheta) = -R * skew(accel - ba_) * dt;
-    F.block<3, 3>(kV, kBa) = -R * dt;
-    if (!x_->gravity_world)
-      F.block<3, 3>(kV, kG).diagonal().setConstant(dt);
+    A.middleRows<3>(kV) += F_v_theta * P_.middleRows<3>(kTheta) + F_v_ba * P_.middleRows<3>(kBa);
+    if (gravity)
+      A.middleRows<3>(kV) += dt * P_.middleRows<3>(kG);
   }
-  F.block<3, 3>(kTheta, kTheta) = expQ(-(gyro - bg_) * dt).toRotationMatrix();
-  F.block<3, 3>(kTheta, kBg).diagonal().setConstant(-dt);
-  MatrixNd P = F * P_ * F.transpose();
+  A.middleRows<3>(kTheta) = F_theta * P_.middleRows<3>(kTheta) - dt * P_.middleRows<3>(kBg);
+  MatrixNd P = A;  // (F P) F^T
+  P.middleCols<3>(kP) += dt * A.middleCols<3>(kV);
+  if (use_accelerometer_)
+  {
+    P.middleCols<3>(kV) += A.middleCols<3>(kTheta) * F_v_theta.transpose() + A.middleCols<3>(kBa) * F_v_ba.transpose();
+    if (gravity)
+      P.middleCols<3>(kV) += dt * A.middleCols<3>(kG);
+  }
+  P.middleCols<3>(kTheta) = A.middleCols<3>(kTheta) * F_theta.transpose() - dt * A.middleCols<3>(kBg);
   const double gn = params_->gyro_noise_density, an = params_->accel_noise_density;
   const double gw = params_->gyro_random_walk, aw = params_->accel_random_walk;
   const double an_used = use_accelerometer_ ? an : kUnmodelledAccelDensity;

@@ -302,6 +302,60 @@ TEST(ImuEkf, WithoutTheAccelerometerAWrongGravityReachesNeitherTheOrientationNor
   }
 }
 
+TEST(ImuEkf, CovariancePropagationIsTheFullFPFtPlusQ)
+{
+  // propagateCovariance works block by block; it must equal F P F^T + Q with the dense F of the
+  // error state (I + A dt), on a covariance with every cross term filled, with the accelerometer
+  // (and an estimated gravity) and without it.
+  ImuFusionParams params;
+  ImuExtrinsics x;
+  ASSERT_EQ(parseImuExtrinsics(params, x), "");
+  for (const bool accelerometer : {true, false})
+  {
+    SCOPED_TRACE(accelerometer ? "with the accelerometer" : "without");
+    ImuEkf ekf(params, x);
+    Eigen::Matrix3d R = Eigen::AngleAxisd(0.7, Eigen::Vector3d(0.3, -1, 0.4).normalized()).toRotationMatrix();
+    Eigen::Vector3d p(0.2, -0.1, -2);
+    ekf.start(Pose::fromWorldCamera(R, p), Eigen::Vector3d(0.5, 9.7, -0.4), ImuEkf::Keep::kNothing);
+    ekf.useAccelerometer(accelerometer);
+    const Eigen::Vector3d gyro(0.9, -0.4, 2.1), accel(0.7, 9.5, -1.3);
+    const double dt = 1e-3;
+    // Cross terms and biases from a few propagations and measurements.
+    for (int k = 0; k < 20; ++k)
+    {
+      ekf.propagateMean(gyro, accel, dt);
+      ekf.propagateCovariance(gyro, accel, dt);
+      p += Eigen::Vector3d(0.001, 0.0005, -0.0002);
+      R = R * Eigen::AngleAxisd(0.002, Eigen::Vector3d::UnitY()).toRotationMatrix();
+      ekf.updateCameraPose(Pose::fromWorldCamera(R, p), Matrix6d::Identity() * 1e-6, 1e12);
+    }
+    const ImuEkf::MatrixNd P0 = ekf.covariance();
+    const double cross = std::min(P0.block<3, 3>(ImuEkf::kTheta, ImuEkf::kBg).cwiseAbs().maxCoeff(),
+                                  P0.block<3, 3>(ImuEkf::kP, ImuEkf::kV).cwiseAbs().maxCoeff());
+    ASSERT_GT(cross, 0.0);
+    const Eigen::Matrix3d R_wi = ekf.cameraPose().R_world_camera() * x.R_camera_imu;
+    ImuEkf::MatrixNd F = ImuEkf::MatrixNd::Identity();
+    F.block<3, 3>(ImuEkf::kP, ImuEkf::kV) = Eigen::Matrix3d::Identity() * dt;
+    if (accelerometer)
+    {
+      F.block<3, 3>(ImuEkf::kV, ImuEkf::kTheta) = -R_wi * skew(accel - ekf.accelBias()) * dt;
+      F.block<3, 3>(ImuEkf::kV, ImuEkf::kBa) = -R_wi * dt;
+      F.block<3, 3>(ImuEkf::kV, ImuEkf::kG) = Eigen::Matrix3d::Identity() * dt;
+    }
+    F.block<3, 3>(ImuEkf::kTheta, ImuEkf::kTheta) =
+        Eigen::AngleAxisd(((gyro - ekf.gyroBias()) * dt).norm(), -(gyro - ekf.gyroBias()).normalized()).toRotationMatrix();
+    F.block<3, 3>(ImuEkf::kTheta, ImuEkf::kBg) = -Eigen::Matrix3d::Identity() * dt;
+    ImuEkf::MatrixNd expected = F * P0 * F.transpose();
+    const double an = accelerometer ? params.accel_noise_density : ImuEkf::kUnmodelledAccelDensity;
+    expected.block<3, 3>(ImuEkf::kV, ImuEkf::kV).diagonal().array() += an * an * dt;
+    expected.block<3, 3>(ImuEkf::kTheta, ImuEkf::kTheta).diagonal().array() += params.gyro_noise_density * params.gyro_noise_density * dt;
+    expected.block<3, 3>(ImuEkf::kBg, ImuEkf::kBg).diagonal().array() += params.gyro_random_walk * params.gyro_random_walk * dt;
+    expected.block<3, 3>(ImuEkf::kBa, ImuEkf::kBa).diagonal().array() += params.accel_random_walk * params.accel_random_walk * dt;
+    ekf.propagateCovariance(gyro, accel, dt);
+    EXPECT_LT((ekf.covariance() - expected).cwiseAbs().maxCoeff(), 1e-12 * (1 + P0.cwiseAbs().maxCoeff()));
+  }
+}
+
 TEST(ImuEkf, CameraIncrementBetweenTwoPosesIsExact)
 {
   const Pose a = dvs_calibration::lookAt(Eigen::Vector3d(0.3, -0.2, -2), Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitY());
