@@ -127,7 +127,6 @@ void ImuEkf::propagateCovariance(const Eigen::Vector3d& gyro, const Eigen::Vecto
   // F = I + A dt (first order; dt is one IMU sample period) has five 3x3 blocks besides the
   // identity: F P F^T as block row, then block column operations (the dense 18x18 products were
   // a third of the tracker's time with an IMU, BENCHMARKS.md, fortieth session).
-  const bool gravity = use_accelerometer_ && !x_->gravity_world;
   const Eigen::Matrix3d F_v_theta = -R * skew(accel - ba_) * dt, F_v_ba = -R * dt;
   const Eigen::Matrix3d F_theta = expQ(-(gyro - bg_) * dt).toRotationMatrix();
   MatrixNd A = P_;  // F P
@@ -135,7 +134,7 @@ void ImuEkf::propagateCovariance(const Eigen::Vector3d& gyro, const Eigen::Vecto
   if (use_accelerometer_)
   {
     A.middleRows<3>(kV) += F_v_theta * P_.middleRows<3>(kTheta) + F_v_ba * P_.middleRows<3>(kBa);
-    if (gravity)
+    if (!x_->gravity_world)
       A.middleRows<3>(kV) += dt * P_.middleRows<3>(kG);
   }
   A.middleRows<3>(kTheta) = F_theta * P_.middleRows<3>(kTheta) - dt * P_.middleRows<3>(kBg);
@@ -144,7 +143,7 @@ void ImuEkf::propagateCovariance(const Eigen::Vector3d& gyro, const Eigen::Vecto
   if (use_accelerometer_)
   {
     P.middleCols<3>(kV) += A.middleCols<3>(kTheta) * F_v_theta.transpose() + A.middleCols<3>(kBa) * F_v_ba.transpose();
-    if (gravity)
+    if (!x_->gravity_world)
       P.middleCols<3>(kV) += dt * A.middleCols<3>(kG);
   }
   P.middleCols<3>(kTheta) = A.middleCols<3>(kTheta) * F_theta.transpose() - dt * A.middleCols<3>(kBg);

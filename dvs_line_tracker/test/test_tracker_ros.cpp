@@ -84,9 +84,8 @@ unsigned long long eventsAccountedFor(const diagnostic_msgs::DiagnosticStatus& s
 {
   unsigned long long n = 0;
   double p50, p99, max;
-  for (const auto& kv : s.values)
-    if (kv.key == "latency: total, event -> pose published" && !parseLatency(kv.value, p50, p99, max, n))
-      n = 0;
+  if (!parseLatency(diagnosticValue(s, "latency: total, event -> pose published"), p50, p99, max, n))
+    n = 0;
   return n + eventsLeftOut(s);
 }
 }  // namespace
@@ -267,14 +266,15 @@ TEST(TrackerRos, TracksASimulatedBag)
   // the events: the IMU is then set aside (LATE) and checked against the vision again (50
   // agreeing updates) before it is fused again, and the bag may end before that. Only then may
   // the end be other than fused: a reported fallback, late or re-checking, under reported load.
-  std::string imu_history;  // the IMU states the diagnostics went through, for the message
+  std::string imu_history, previous;  // the IMU states the diagnostics went through, for the message
   bool imu_fused_once = false;
   for (const auto& d : rx.diagnostics)
   {
     const std::string s = diagnosticValue(d, "IMU status");
     imu_fused_once |= s == "OK";
-    if (imu_history.size() < s.size() || imu_history.compare(imu_history.size() - s.size(), s.size(), s) != 0)
+    if (s != previous)
       imu_history += (imu_history.empty() ? "" : " -> ") + s;
+    previous = s;
   }
   const std::string imu_status = diagnosticValue(last, "IMU status"), imu_message = diagnosticValue(last, "IMU message");
   EXPECT_TRUE(imu_fused_once) << "the IMU was never fused: " << imu_history << "; " << imu_message;
@@ -294,11 +294,7 @@ TEST(TrackerRos, TracksASimulatedBag)
   EXPECT_LE(resumed, held);
   // The initialiser's counters (why there was no pose before the first one).
   unsigned long long voted = 0, offered = 0;
-  bool have_init = false;
-  for (const auto& kv : rx.diagnostics.back().values)
-    if (kv.key == "initialiser: events voted / offered")
-      have_init = std::sscanf(kv.value.c_str(), "%llu / %llu", &voted, &offered) == 2;
-  EXPECT_TRUE(have_init);
+  EXPECT_EQ(std::sscanf(diagnosticValue(last, "initialiser: events voted / offered").c_str(), "%llu / %llu", &voted, &offered), 2);
   EXPECT_GT(voted, 0u);
   EXPECT_LE(voted, offered);
   EXPECT_LT(offered, sim.events.size());
