@@ -174,13 +174,17 @@ double ImuEkf::updateCameraPose(const Pose& measured, const Matrix6d& cov, doubl
   Vector6d r;
   r.head<3>() = logR(predicted.R_camera_world * measured.R_world_camera());
   r.tail<3>() = measured.p_world_camera() - predicted.p_world_camera();
-  Eigen::Matrix<double, 6, ImuEkf::kN> H = Eigen::Matrix<double, 6, ImuEkf::kN>::Zero();
-  const Eigen::Matrix3d R = q_.toRotationMatrix();
-  H.block<3, 3>(0, kTheta) = x_->R_camera_imu;
-  H.block<3, 3>(3, kP).setIdentity();
-  H.block<3, 3>(3, kTheta) = -R * skew(p_imu_camera_);
-  const Eigen::Matrix<double, ImuEkf::kN, 6> PHt = P_ * H.transpose();
-  Matrix6d S = H * PHt + cov;
+  // H has three 3x3 blocks: rotation row (R_camera_imu at theta), position row (identity at p,
+  // M at theta); P H^T and H P H^T by those blocks.
+  const Eigen::Matrix3d M = -(q_.toRotationMatrix() * skew(p_imu_camera_));
+  Eigen::Matrix<double, ImuEkf::kN, 6> PHt;
+  PHt.leftCols<3>().noalias() = P_.middleCols<3>(kTheta) * x_->R_camera_imu.transpose();
+  PHt.rightCols<3>() = P_.middleCols<3>(kP);
+  PHt.rightCols<3>().noalias() += P_.middleCols<3>(kTheta) * M.transpose();
+  Matrix6d S = cov;
+  S.topRows<3>().noalias() += x_->R_camera_imu * PHt.middleRows<3>(kTheta);
+  S.bottomRows<3>() += PHt.middleRows<3>(kP);
+  S.bottomRows<3>().noalias() += M * PHt.middleRows<3>(kTheta);
   S = 0.5 * (S + S.transpose());
   const Eigen::LLT<Matrix6d> llt(S);
   if (llt.info() != Eigen::Success)
@@ -190,8 +194,12 @@ double ImuEkf::updateCameraPose(const Pose& measured, const Matrix6d& cov, doubl
     return chi2;
   const Eigen::Matrix<double, ImuEkf::kN, 6> K = llt.solve(PHt.transpose()).transpose();
   inject(K * r);
-  const MatrixNd IKH = MatrixNd::Identity() - K * H;
-  MatrixNd P = IKH * P_ * IKH.transpose() + K * cov * K.transpose();
+  // Joseph form (I - K H) P (I - K H)^T + K cov K^T, expanded with P H^T and S = H P H^T + cov:
+  // P - C - C^T + K S K^T with C = K (P H^T)^T (two 18x6 products instead of dense 18x18 ones).
+  const Eigen::Matrix<double, ImuEkf::kN, 6> KS = K * S;
+  const MatrixNd C = K.lazyProduct(PHt.transpose());
+  MatrixNd P = P_ - C - C.transpose();
+  P.noalias() += KS.lazyProduct(K.transpose());
   if (!x_->gravity_world)
   {
     // |g| = 9.81 (sigma 0.01 m/s^2): a scalar update.
@@ -212,6 +220,32 @@ Pose ImuEkf::cameraPose() const
 {
   const Eigen::Matrix3d R_wi = q_.toRotationMatrix();
   return Pose::fromWorldCamera(R_wi * R_imu_camera_, p_ + R_wi * p_imu_camera_);
+}
+
+Vector6d ImuEkf::cameraIncrement(const Eigen::Vector3d& gyro, const Eigen::Vector3d& accel, double from_s,
+                                 double to_s, const Eigen::Matrix3d& R_camera_world) const
+{
+  const double dt = to_s - from_s;
+  const Eigen::Vector3d w = gyro - bg_;
+  Vector6d d;
+  // R_camera_world(to) = R_camera_imu Exp(-w dt) R_imu_camera R_camera_world(from).
+  d.head<3>() = -dt * (x_->R_camera_imu * w);
+  // The IMU's displacement in the world, as propagateMean over [0, to] minus over [0, from].
+  Eigen::Vector3d dp;
+  if (use_accelerometer_)
+  {
+    const Eigen::Vector3d a = q_ * (accel - ba_) + g_;
+    dp = (v_ + from_s * a) * dt + (0.5 * dt * dt) * a;
+  }
+  else
+    dp = v_ * dt;
+  // t(to) = dR t(from) - R_camera_world(to) (dp + R_world_imu(to) p_ic - R_world_imu(from) p_ic)
+  // with dR = Exp(r), r = d.head: the displacement in the camera axes at `from`, turned by dR;
+  // the lever arm's turn R_camera_imu (I - Exp(-theta)) p_ic, theta = w dt (both to second order).
+  const Eigen::Vector3d r = d.head<3>(), u = R_camera_world * dp, theta = dt * w;
+  const Eigen::Vector3d r_u = r.cross(u), th_p = theta.cross(p_imu_camera_);
+  d.tail<3>() = -(u + r_u + 0.5 * r.cross(r_u)) - x_->R_camera_imu * (th_p - 0.5 * theta.cross(th_p));
+  return d;
 }
 
 Eigen::Vector3d ImuEkf::cameraAngularVelocity(const Eigen::Vector3d& gyro) const

@@ -211,7 +211,7 @@ void ImuPropagator::restart(const EstimatorState& state, int64_t t_ns)
     gravity_checked_ = false;
   forget_learned_ = false;
   gyro_only_ = false;
-  cursor_.t_ns = t_last_update_ = checking_since_ns_ = previous_event_ns_ = started_ns_ = t_ns;
+  cursor_.t_ns = due_ns_ = t_last_update_ = checking_since_ns_ = previous_event_ns_ = started_ns_ = t_ns;
   cursor_.pending_cov_dt = 0;
   // An estimated gravity that was not confirmed yet: the tracker's filter runs without the
   // accelerometer (gyroscope, constant-velocity position) while a second filter with it checks
@@ -257,17 +257,42 @@ void ImuPropagator::Cursor::flushCovariance(ImuEkf& f)
   pending_cov_dt = 0;
 }
 
-void ImuPropagator::advanceTo(int64_t t_ns)
+void ImuPropagator::advanceTo(int64_t t_ns, EstimatorState* moved)
 {
   while (count_ > 0 && ring_[head_].t_ns <= t_ns)
   {
-    cursor_.next(ekf_, ring_[head_]);
+    const Sample& s = ring_[head_];
+    if (moved)
+      moveWithFilter(*moved, s.t_ns);
+    if (s.t_ns < due_ns_)
+      catchUp();  // a late sample: the held one is in force until the filter's time
+    cursor_.next(ekf_, s);
     if (checking_gravity_)
-      gravity_cursor_.next(gravity_check_, ring_[head_]);
+      gravity_cursor_.next(gravity_check_, s);
     head_ = (head_ + 1) % ring_.size();
     --count_;
   }
-  cursor_.meanTo(ekf_, t_ns);
+  if (moved)
+    moveWithFilter(*moved, t_ns);
+  due_ns_ = std::max(due_ns_, t_ns);
+}
+
+void ImuPropagator::moveWithFilter(EstimatorState& state, int64_t t_ns)
+{
+  if (t_ns <= due_ns_)
+    return;
+  const Vector6d d = ekf_.cameraIncrement(cursor_.sample.gyro, cursor_.sample.accel, (due_ns_ - cursor_.t_ns) * 1e-9,
+                                          (t_ns - cursor_.t_ns) * 1e-9, state.pose.R_camera_world);
+  state.pose.applyCameraIncrement(d);
+  state.x_accumulated += d;
+  due_ns_ = t_ns;
+}
+
+void ImuPropagator::catchUp()
+{
+  cursor_.meanTo(ekf_, due_ns_);
+  if (checking_gravity_)
+    gravity_cursor_.meanTo(gravity_check_, due_ns_);
 }
 
 Pose ImuPropagator::visionMeasurement(const EstimatorState& state)
@@ -294,12 +319,13 @@ Pose ImuPropagator::visionMeasurement(const EstimatorState& state)
 
 void ImuPropagator::updateWithVision(EstimatorState& state)
 {
+  catchUp();
   cursor_.flushCovariance(ekf_);
   vision_covariance_ = visionPoseCovariance(state);
   const Pose measured = visionMeasurement(state);
   const double chi2 = ekf_.updateCameraPose(measured, vision_covariance_ * params_.vision_covariance_scale, kGate);
   ++stats_.updates;
-  t_last_update_ = cursor_.t_ns;
+  t_last_update_ = due_ns_;
   const bool rejected = !(chi2 <= kGate);
   if (rejected)
     ++stats_.updates_rejected;
@@ -321,7 +347,7 @@ void ImuPropagator::updateWithVision(EstimatorState& state)
     std::snprintf(buf, sizeof buf, "the estimated biases left their plausible range (gyro %.4f rad/s, accel %.3f m/s^2)",
                   bg, ba);
     setAside(ImuStatus::kDisagrees, std::string(buf) + ": a wrong extrinsic, clock offset or imu_gravity_world?",
-             cursor_.t_ns, true);
+             due_ns_, true);
     return;
   }
   if (ba > kBiasSigmas * params_.initial_accel_bias_sigma && ekf_.usesAccelerometer())
@@ -336,7 +362,7 @@ void ImuPropagator::updateWithVision(EstimatorState& state)
   {
     // Until the filter agrees with the vision again the IMU does not move the tracker's pose.
     trusted_ = false;
-    checking_since_ns_ = cursor_.t_ns;
+    checking_since_ns_ = due_ns_;
     setStatus(ImuStatus::kChecking, "the IMU's predictions disagree with the vision: checking again");
   }
   if (!trusted_)
@@ -353,7 +379,7 @@ void ImuPropagator::updateWithVision(EstimatorState& state)
       trusted_ = true;
       setFusedStatus();
     }
-    else if (cursor_.t_ns - checking_since_ns_ > kMaxCheckingNs)
+    else if (due_ns_ - checking_since_ns_ > kMaxCheckingNs)
     {
       char buf[64];
       std::snprintf(buf, sizeof buf, "%.0f", nis_mean_);
@@ -361,7 +387,7 @@ void ImuPropagator::updateWithVision(EstimatorState& state)
                std::string("the IMU's predictions disagreed with the vision for ") +
                    std::to_string(kMaxCheckingNs / 1000000) + " ms (mean scaled innovation " + buf +
                    ", agreement below " + std::to_string(int(kAgreeNis)) + "): wrong units, extrinsics or clock offset?",
-               cursor_.t_ns);
+               due_ns_);
     }
     return;
   }
@@ -398,7 +424,7 @@ void ImuPropagator::checkGravity(const Pose& measured)
 {
   if (!checking_gravity_)
     return;
-  gravity_cursor_.meanTo(gravity_check_, cursor_.t_ns);
+  gravity_cursor_.meanTo(gravity_check_, due_ns_);
   gravity_cursor_.flushCovariance(gravity_check_);
   const double chi2 =
       gravity_check_.updateCameraPose(measured, vision_covariance_ * params_.vision_covariance_scale, kGate);
@@ -412,7 +438,7 @@ void ImuPropagator::checkGravity(const Pose& measured)
     rejectGravity(ba);
     return;
   }
-  if (chi2 <= kGate && cursor_.t_ns - started_ns_ >= gravity_check_ns_ &&
+  if (chi2 <= kGate && due_ns_ - started_ns_ >= gravity_check_ns_ &&
       ba <= kCheckedBiasSigmas * params_.initial_accel_bias_sigma)
   {
     // Confirmed: the tracker's filter continues as the one with the accelerometer.
@@ -442,7 +468,7 @@ void ImuPropagator::propagate(EstimatorState& state, int64_t t_ns)
     return;
   }
   // The vision's pose is that of the previous event: compared only when the filter got there.
-  if (cursor_.t_ns - t_last_update_ >= update_period_ns_ && cursor_.t_ns >= previous_event_ns_)
+  if (due_ns_ - t_last_update_ >= update_period_ns_ && due_ns_ >= previous_event_ns_)
   {
     updateWithVision(state);
     if (!tracking_)
@@ -454,16 +480,8 @@ void ImuPropagator::propagate(EstimatorState& state, int64_t t_ns)
   const int64_t hold_ns = std::max<int64_t>(2000000, static_cast<int64_t>(2e9 * sample_period_s_));
   const int64_t t_to = std::min(t_ns, newest_ns_ + hold_ns);
   previous_event_ns_ = t_ns;
-  if (!trusted_)
-  {
-    advanceTo(t_to);
-    return;
-  }
-  const Pose before = ekf_.cameraPose();
-  advanceTo(t_to);
-  const Vector6d d = cameraIncrementBetween(before, ekf_.cameraPose());
-  state.pose.applyCameraIncrement(d);
-  state.x_accumulated += d;
+  // Trusted, the tracker's pose moves with the filter.
+  advanceTo(t_to, trusted_ ? &state : nullptr);
 }
 
 bool ImuPropagator::odometry(int64_t t_ns, ImuOdometry& out) const
@@ -474,7 +492,12 @@ bool ImuPropagator::odometry(int64_t t_ns, ImuOdometry& out) const
   ImuEkf f = ekf_;
   Cursor c = cursor_;
   for (size_t k = 0; k < count_ && ring_[(head_ + k) % ring_.size()].t_ns <= t_ns; ++k)
-    c.next(f, ring_[(head_ + k) % ring_.size()]);
+  {
+    const Sample& s = ring_[(head_ + k) % ring_.size()];
+    if (s.t_ns < due_ns_)
+      c.meanTo(f, due_ns_);  // as advanceTo: the held sample is in force until the filter's time
+    c.next(f, s);
+  }
   c.meanTo(f, t_ns);
   c.flushCovariance(f);
   const int64_t t = c.t_ns;

@@ -356,6 +356,53 @@ TEST(ImuEkf, CovariancePropagationIsTheFullFPFtPlusQ)
   }
 }
 
+TEST(ImuEkf, PoseUpdateCovarianceIsTheJosephForm)
+{
+  // updateCameraPose expands the Joseph form through P H^T; it must equal the dense
+  // (I - K H) P (I - K H)^T + K R K^T, with a lever arm (H's position row has a rotation block)
+  // and every cross term filled. A known gravity: no |g| pseudo-measurement after it.
+  ImuFusionParams params;
+  params.p_camera_imu = "0.03 -0.02 0.05";
+  params.q_camera_imu = "0.1 0.2 -0.1 0.969536";
+  params.gravity_world = "0 -9.81 0";
+  ImuExtrinsics x;
+  ASSERT_EQ(parseImuExtrinsics(params, x), "");
+  ImuEkf ekf(params, x);
+  Eigen::Matrix3d R = Eigen::AngleAxisd(0.7, Eigen::Vector3d(0.3, -1, 0.4).normalized()).toRotationMatrix();
+  Eigen::Vector3d p(0.2, -0.1, -2);
+  ekf.start(Pose::fromWorldCamera(R, p), Eigen::Vector3d(0.5, 9.7, -0.4), ImuEkf::Keep::kNothing);
+  const Eigen::Vector3d gyro(0.9, -0.4, 2.1), accel(0.7, 9.5, -1.3);
+  for (int k = 0; k < 20; ++k)
+  {
+    ekf.propagateMean(gyro, accel, 1e-3);
+    ekf.propagateCovariance(gyro, accel, 1e-3);
+    p += Eigen::Vector3d(0.001, 0.0005, -0.0002);
+    R = R * Eigen::AngleAxisd(0.002, Eigen::Vector3d::UnitY()).toRotationMatrix();
+    ekf.updateCameraPose(Pose::fromWorldCamera(R, p), Matrix6d::Identity() * 1e-6, 1e12);
+  }
+  const ImuEkf::MatrixNd P0 = ekf.covariance();
+  const double cross = P0.block<3, 3>(ImuEkf::kTheta, ImuEkf::kBa).cwiseAbs().maxCoeff();
+  ASSERT_GT(cross, 0.0);
+  const Eigen::Matrix3d R_wi = ekf.cameraPose().R_world_camera() * x.R_camera_imu;
+  const Eigen::Vector3d p_imu_camera = -x.R_camera_imu.transpose() * x.p_camera_imu;
+  ASSERT_GT(p_imu_camera.norm(), 0.01);
+  Eigen::Matrix<double, 6, ImuEkf::kN> H = Eigen::Matrix<double, 6, ImuEkf::kN>::Zero();
+  H.block<3, 3>(0, ImuEkf::kTheta) = x.R_camera_imu;
+  H.block<3, 3>(3, ImuEkf::kP).setIdentity();
+  H.block<3, 3>(3, ImuEkf::kTheta) = -R_wi * skew(p_imu_camera);
+  Matrix6d cov = Matrix6d::Identity() * 4e-6;
+  cov(0, 4) = cov(4, 0) = 1e-6;
+  const Matrix6d S = H * P0 * H.transpose() + cov;
+  const Eigen::Matrix<double, ImuEkf::kN, 6> K = P0 * H.transpose() * S.inverse();
+  const ImuEkf::MatrixNd IKH = ImuEkf::MatrixNd::Identity() - K * H;
+  const ImuEkf::MatrixNd expected = IKH * P0 * IKH.transpose() + K * cov * K.transpose();
+  ekf.updateCameraPose(Pose::fromWorldCamera(R * Eigen::AngleAxisd(0.01, Eigen::Vector3d::UnitX()).toRotationMatrix(),
+                                             p + Eigen::Vector3d(0.01, 0, 0)),
+                       cov, 1e12);
+  EXPECT_LT((ekf.covariance() - expected).cwiseAbs().maxCoeff(), 1e-9 * P0.cwiseAbs().maxCoeff());
+  EXPECT_GT((ekf.covariance() - P0).cwiseAbs().maxCoeff(), 1e-3 * P0.cwiseAbs().maxCoeff());
+}
+
 TEST(ImuEkf, CameraIncrementBetweenTwoPosesIsExact)
 {
   const Pose a = dvs_calibration::lookAt(Eigen::Vector3d(0.3, -0.2, -2), Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitY());
@@ -365,6 +412,46 @@ TEST(ImuEkf, CameraIncrementBetweenTwoPosesIsExact)
   c.applyCameraIncrement(cameraIncrementBetween(a, b));
   EXPECT_LT(positionError(c, b), 1e-9);
   EXPECT_LT(orientationError(c, b), 1e-9);
+}
+
+TEST(ImuEkf, CameraIncrementIsTheNominalMotionBetweenTwoTimes)
+{
+  // The per-event motion without propagating the mean: from `from` to `to` seconds after the
+  // mean's time, it must take the camera pose of propagateMean(from) to that of propagateMean(to)
+  // (the held sample), with a lever arm, a velocity and a fast rotation (2000 deg/s); with the
+  // accelerometer and without.
+  ImuFusionParams params;
+  params.p_camera_imu = "0.03 -0.02 0.05";
+  params.q_camera_imu = "0.1 0.2 -0.1 0.969536";
+  ImuExtrinsics x;
+  ASSERT_EQ(parseImuExtrinsics(params, x), "");
+  for (const bool accelerometer : {true, false})
+  {
+    SCOPED_TRACE(accelerometer ? "with the accelerometer" : "without");
+    ImuEkf ekf(params, x);
+    const Eigen::Matrix3d R = Eigen::AngleAxisd(0.7, Eigen::Vector3d(0.3, -1, 0.4).normalized()).toRotationMatrix();
+    ekf.start(Pose::fromWorldCamera(R, Eigen::Vector3d(0.2, -0.1, -2)), Eigen::Vector3d(0.5, 9.7, -0.4),
+              ImuEkf::Keep::kNothing);
+    ekf.useAccelerometer(accelerometer);
+    const Eigen::Vector3d gyro(9.0, -4.0, 31.0), accel(4.7, 19.5, -6.3);
+    ekf.propagateMean(Eigen::Vector3d(0.3, 0.1, -0.2), accel, 0.2);  // a velocity of a few m/s
+    if (accelerometer)
+      ASSERT_GT(ekf.velocity().norm(), 1.0);
+    for (const double from : {0.0, 0.4e-3})
+      for (const double to : {from + 2e-6, from + 1e-4, from + 0.5e-3})
+      {
+        ImuEkf a = ekf, b = ekf;
+        a.propagateMean(gyro, accel, from);
+        b.propagateMean(gyro, accel, to);
+        Pose moved = a.cameraPose();
+        const Vector6d d = ekf.cameraIncrement(gyro, accel, from, to, moved.R_camera_world);
+        moved.applyCameraIncrement(d);
+        const double tolerance = 1e-12 + 0.1 * std::pow(35.0 * (to - from), 3);  // third order in the turn
+        EXPECT_LT(positionError(moved, b.cameraPose()), tolerance) << from << " " << to;
+        EXPECT_LT(orientationError(moved, b.cameraPose()), 1e-9) << from << " " << to;
+        EXPECT_GT(positionError(a.cameraPose(), b.cameraPose()), 100 * tolerance);
+      }
+  }
 }
 
 TEST(ImuFusionParams, BadVectorsAreNamed)

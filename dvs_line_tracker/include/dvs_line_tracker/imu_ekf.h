@@ -69,6 +69,15 @@ public:
   /// The camera's pose (T_world_camera) from the IMU's.
   Pose cameraPose() const;
 
+  /// The camera increment (applyCameraIncrement's delta) of the nominal motion from `from_s` to
+  /// `to_s` seconds after the mean's time, the sample held (what propagateMean(gyro, accel, t)
+  /// would do to the camera pose between those times), for a camera whose rotation at `from_s`
+  /// is `R_camera_world`: the per-event motion without propagating the mean. The rotation is
+  /// exact; the translation to second order in the rotation between the two times (its turn of
+  /// the camera axes and of the lever arm; 1e-11 m at 2000 deg/s, 0.1 ms, a 6 cm arm).
+  Vector6d cameraIncrement(const Eigen::Vector3d& gyro, const Eigen::Vector3d& accel, double from_s, double to_s,
+                           const Eigen::Matrix3d& R_camera_world) const;
+
   /// Camera angular velocity (camera axes, rad/s) and camera-centre velocity (world, m/s) for
   /// the latest gyro sample (bias removed).
   Eigen::Vector3d cameraAngularVelocity(const Eigen::Vector3d& gyro) const;

@@ -130,7 +130,15 @@ private:
   void setStatus(ImuStatus s, const std::string& message);
   /// Vision alone from `t_ns` for kDistrustNs, then a fresh start; `forget`: without what was learned.
   void setAside(ImuStatus s, const std::string& message, int64_t t_ns, bool forget = false);
-  void advanceTo(int64_t t_ns);
+  /// The samples up to t_ns consumed (the filter's mean and covariance carried to each) and the
+  /// filter's time set to t_ns; `moved` (the tracker's state, when the IMU is trusted) carried
+  /// along with the filter's nominal motion, sample by sample. The mean itself is carried
+  /// between samples only when it is needed (catchUp): per event one increment, no propagation.
+  void advanceTo(int64_t t_ns, EstimatorState* moved);
+  /// `state`'s pose moved with the nominal motion of the sample in force from due_ns_ to t_ns.
+  void moveWithFilter(EstimatorState& state, int64_t t_ns);
+  /// The filter's mean (and the gravity check's) carried to due_ns_.
+  void catchUp();
   void updateWithVision(EstimatorState& state);
   bool gravityEstimated() const { return !extrinsics_.gravity_world; }
   void setFusedStatus();
@@ -152,6 +160,7 @@ private:
   Cursor cursor_;
   bool have_current_ = false;
   int64_t t_last_update_ = 0, newest_ns_ = INT64_MIN, previous_event_ns_ = 0;
+  int64_t due_ns_ = 0;  ///< the filter's time (the tracker's pose is there); its mean is at cursor_.t_ns <= due_ns_
   double sample_period_s_ = 1e-3;  ///< the latest interval between samples
   Matrix6d vision_covariance_ = Matrix6d::Zero();  ///< the latest Gauss-Newton covariance (unscaled)
   int64_t max_latency_ns_, max_bridge_ns_, update_period_ns_, time_offset_ns_, gravity_check_ns_;
