@@ -116,33 +116,35 @@ AccuracyScene simulateAccuracyScene(const AccuracyClass& c, uint64_t seed)
   return s;
 }
 
+ImuFeed::ImuFeed(LineTracker& tracker, const LineTrackerParams& params, const dvs_driver::ImuVector* samples)
+  : samples_(samples)
+{
+  if (!samples_)
+    return;
+  imu_ = std::make_shared<ImuPropagator>(params.imu);
+  tracker.setPropagator(imu_);
+}
+
 AccuracyRun runAccuracyScene(const AccuracyScene& s, const LineTrackerParams& params, dvs_calibration::Trajectory* out,
                              bool use_imu)
 {
   LineTracker tracker(s.config.camera, s.map, params);
-  std::shared_ptr<ImuPropagator> imu;
-  if (use_imu)
-  {
-    imu = std::make_shared<ImuPropagator>(params.imu);
-    tracker.setPropagator(imu);
-  }
+  ImuFeed imu(tracker, params, use_imu ? &s.output.imu : nullptr);
   dvs_calibration::Trajectory local;
   dvs_calibration::Trajectory& estimates = out ? *out : local;
   estimates.clear();
   estimates.reserve(s.output.events.size());
-  size_t next_imu = 0;
   const double t0 = threadCpuSeconds();
   for (const auto& e : s.output.events)
   {
-    for (; imu && next_imu < s.output.imu.size() && s.output.imu[next_imu].t_ns <= e.t_ns; ++next_imu)
-      imu->addSample(s.output.imu[next_imu]);
+    imu.before(e.t_ns);
     if (tracker.processEvent(e))
       estimates.push_back({e.t_ns * 1e-9, tracker.pose()});
   }
   AccuracyRun r;
   r.tracker_cpu_s = threadCpuSeconds() - t0;
-  if (imu)
-    r.imu_status = toString(imu->status());
+  if (imu.propagator())
+    r.imu_status = toString(imu.propagator()->status());
   r.events = s.output.events.size();
   r.stats = tracker.stats();
   r.accuracy = dvs_calibration::evaluateTrajectory(estimates, s.ground_truth, 0.05);
@@ -150,14 +152,17 @@ AccuracyRun runAccuracyScene(const AccuracyScene& s, const LineTrackerParams& pa
 }
 
 std::vector<double> poseUpdateLatencies(const dvs_calibration::CameraModel& camera, const LineMap& map,
-                                        const LineTrackerParams& params, const dvs_driver::EventVector& events)
+                                        const LineTrackerParams& params, const dvs_driver::EventVector& events,
+                                        const dvs_driver::ImuVector* imu_samples)
 {
   LineTracker tracker(camera, map, params);
+  ImuFeed imu(tracker, params, imu_samples);
   std::vector<double> lat;
   lat.reserve(events.size());
   bool tracking = false;
   for (const auto& e : events)
   {
+    imu.before(e.t_ns);
     const auto t0 = std::chrono::steady_clock::now();
     const bool updated = tracker.processEvent(e);
     const auto t1 = std::chrono::steady_clock::now();

@@ -5,11 +5,13 @@
 // one accuracy metric against the simulator's ground truth.
 #include <dvs_calibration/trajectory_accuracy.h>
 #include <dvs_line_tracker/line_map.h>
+#include <dvs_line_tracker/imu_propagator.h>
 #include <dvs_line_tracker/line_tracker.h>
 #include <dvs_screen_sim/dataset.h>
 #include <dvs_screen_sim/sim_config.h>
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -45,6 +47,28 @@ LineMap mapOfScene(const dvs_screen_sim::Scene& scene, const std::string& name);
 /// Configure, simulate, and build the map.
 AccuracyScene simulateAccuracyScene(const AccuracyClass& c, uint64_t seed);
 
+/// A simulated IMU fused into a tracker as the nodelet does: an ImuPropagator (params.imu) set
+/// as the tracker's propagator, each sample given to it before the first event after it. With
+/// no samples (nullptr) it does nothing.
+class ImuFeed
+{
+public:
+  ImuFeed(LineTracker& tracker, const LineTrackerParams& params, const dvs_driver::ImuVector* samples);
+  /// Give the samples up to (and at) t_ns; call before processEvent of an event at t_ns.
+  void before(int64_t t_ns)
+  {
+    for (; imu_ && next_ < samples_->size() && (*samples_)[next_].t_ns <= t_ns; ++next_)
+      imu_->addSample((*samples_)[next_]);
+  }
+  /// The propagator (nullptr without samples).
+  const ImuPropagator* propagator() const { return imu_.get(); }
+
+private:
+  const dvs_driver::ImuVector* samples_;
+  std::shared_ptr<ImuPropagator> imu_;
+  size_t next_ = 0;
+};
+
 struct AccuracyRun
 {
   dvs_calibration::AccuracyReport accuracy;
@@ -63,6 +87,8 @@ AccuracyRun runAccuracyScene(const AccuracyScene& scene, const LineTrackerParams
 
 /// Wall-clock time [s] of every processEvent call that updated the pose, after the first pose
 /// (the per-event processing latency while tracking).
+/// `imu`: the simulated IMU fused (ImuFeed).
 std::vector<double> poseUpdateLatencies(const dvs_calibration::CameraModel& camera, const LineMap& map,
-                                        const LineTrackerParams& params, const dvs_driver::EventVector& events);
+                                        const LineTrackerParams& params, const dvs_driver::EventVector& events,
+                                        const dvs_driver::ImuVector* imu = nullptr);
 }  // namespace dvs_line_tracker

@@ -2,9 +2,10 @@
 // per thread-CPU second for the whole run, the initialisation (events before the first pose) and
 // the tracking (after it); the real-time factor; the per-event processing latency percentiles;
 // the peak memory of the tracking; the accuracy beside it (so that a faster setting that is
-// less accurate shows). Medians over --runs runs of each sequence.
+// less accurate shows). Medians over --runs runs of each sequence. --imu fuses the simulated IMU
+// (as a DAVIS's own IMU with ~use_imu: every event solved, the filter updated every 1 ms).
 //
-//   rosrun dvs_line_tracker benchmark_speed [--runs 5] [--params tracker.yaml] [--quick]
+//   rosrun dvs_line_tracker benchmark_speed [--runs 5] [--params tracker.yaml] [--quick] [--imu]
 #include "accuracy_classes.h"
 #include "benchmark_tool.h"
 #include "benchmark_stats.h"
@@ -66,7 +67,7 @@ struct SpeedRun
 
 /// One run: thread CPU time of the event loop; the pose in force at each ground-truth sample
 /// kept for the accuracy (not every pose: a per-event trajectory would dominate the memory).
-SpeedRun runOnce(const AccuracyScene& s, const LineTrackerParams& params)
+SpeedRun runOnce(const AccuracyScene& s, const LineTrackerParams& params, bool use_imu)
 {
   const auto& events = s.output.events;
   const auto& gt = s.ground_truth;
@@ -79,6 +80,7 @@ SpeedRun runOnce(const AccuracyScene& s, const LineTrackerParams& params)
   size_t init_events = events.size();
   {
     LineTracker tracker(s.config.camera, s.map, params);
+    ImuFeed imu(tracker, params, use_imu ? &s.output.imu : nullptr);
     size_t next_gt = 0;
     bool have = false;
     dvs_calibration::StampedPose last;
@@ -96,6 +98,7 @@ SpeedRun runOnce(const AccuracyScene& s, const LineTrackerParams& params)
       }
       if ((i & 0xffff) == 0xffff)
         heap_peak = std::max(heap_peak, heapBytes());
+      imu.before(events[i].t_ns);
       if (tracker.processEvent(events[i]))
       {
         if (!have)
@@ -129,7 +132,7 @@ SpeedRun runOnce(const AccuracyScene& s, const LineTrackerParams& params)
 int main(int argc, char** argv)
 {
   int runs = 5;
-  bool quick = false;
+  bool quick = false, use_imu = false;
   LineTrackerParams params;
   for (int i = 1; i < argc; ++i)
   {
@@ -149,14 +152,17 @@ int main(int argc, char** argv)
     }
     else if (!std::strcmp(argv[i], "--quick"))
       quick = true;
+    else if (!std::strcmp(argv[i], "--imu"))
+      use_imu = true;
     else
     {
-      std::fprintf(stderr, "usage: benchmark_speed [--runs N (default 5)] [--params tracker.yaml] [--quick (DVS128 only)]\n");
+      std::fprintf(stderr, "usage: benchmark_speed [--runs N (default 5)] [--params tracker.yaml] [--quick (DVS128 only)]\n"
+                           "       [--imu (fuse the simulated IMU: the tracker's ImuPropagator with the imu_* parameters)]\n");
       return 2;
     }
   }
-  std::printf("## Tracker speed on one core (thread CPU time of the event loop; median of %d runs, min-max in brackets)\n\n",
-              runs);
+  std::printf("## Tracker speed on one core (thread CPU time of the event loop; median of %d runs, min-max in brackets%s)\n\n",
+              runs, use_imu ? "; the simulated IMU fused" : "");
   std::printf("| sequence | events | length [s] | M events/s whole run | initialisation | tracking | real-time factor | "
               "latency p50 / p99 / p99.9 / max [us] | tracker heap peak / process peak RSS [MB] | RMS [cm / deg] | tracked |\n"
               "|---|---|---|---|---|---|---|---|---|---|---|\n");
@@ -176,14 +182,15 @@ int main(int argc, char** argv)
     SpeedRun last;
     for (int k = 0; k < runs; ++k)
     {
-      last = runOnce(scene, params);
+      last = runOnce(scene, params, use_imu);
       whole.push_back(last.whole_eps / 1e6);
       init.push_back(last.init_eps / 1e6);
       tracking.push_back(last.tracking_eps / 1e6);
       rtf.push_back(last.real_time_factor);
       mem.push_back(last.heap_peak_mb);
     }
-    std::vector<double> lat = poseUpdateLatencies(scene.config.camera, scene.map, params, scene.output.events);
+    std::vector<double> lat = poseUpdateLatencies(scene.config.camera, scene.map, params, scene.output.events,
+                                                  use_imu ? &scene.output.imu : nullptr);
     const double p50 = percentile(lat, 0.5), p99 = percentile(lat, 0.99), p999 = percentile(lat, 0.999);
     const double pmax = maxOf(lat);
     auto range = [](const std::vector<double>& v) {
