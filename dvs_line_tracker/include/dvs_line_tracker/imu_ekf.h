@@ -73,8 +73,8 @@ public:
   /// `to_s` seconds after the mean's time, the sample held (what propagateMean(gyro, accel, t)
   /// would do to the camera pose between those times), for a camera whose rotation at `from_s`
   /// is `R_camera_world`: the per-event motion without propagating the mean. The rotation is
-  /// exact; the translation to second order in the rotation between the two times (its turn of
-  /// the camera axes and of the lever arm; 1e-11 m at 2000 deg/s, 0.1 ms, a 6 cm arm).
+  /// exact; the translation too for turns beyond 0.01 rad, below to second order in the turn
+  /// (of the camera axes and of the lever arm; 1e-11 m at 2000 deg/s, 0.1 ms, a 6 cm arm).
   Vector6d cameraIncrement(const Eigen::Vector3d& gyro, const Eigen::Vector3d& accel, double from_s, double to_s,
                            const Eigen::Matrix3d& R_camera_world) const;
 
