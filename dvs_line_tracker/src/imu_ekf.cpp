@@ -175,17 +175,10 @@ double ImuEkf::updateCameraPose(const Pose& measured, const Matrix6d& cov, doubl
   Vector6d r;
   r.head<3>() = logR(predicted.R_camera_world * measured.R_world_camera());
   r.tail<3>() = measured.p_world_camera() - predicted.p_world_camera();
-  // H has three 3x3 blocks: rotation row (R_camera_imu at theta), position row (identity at p,
-  // M at theta); P H^T and H P H^T by those blocks.
-  const Eigen::Matrix3d M = -(q_.toRotationMatrix() * skew(p_imu_camera_));
   Eigen::Matrix<double, ImuEkf::kN, 6> PHt;
-  PHt.leftCols<3>().noalias() = P_.middleCols<3>(kTheta) * x_->R_camera_imu.transpose();
-  PHt.rightCols<3>() = P_.middleCols<3>(kP);
-  PHt.rightCols<3>().noalias() += P_.middleCols<3>(kTheta) * M.transpose();
-  Matrix6d S = cov;
-  S.topRows<3>().noalias() += x_->R_camera_imu * PHt.middleRows<3>(kTheta);
-  S.bottomRows<3>() += PHt.middleRows<3>(kP);
-  S.bottomRows<3>().noalias() += M * PHt.middleRows<3>(kTheta);
+  Matrix6d S;
+  poseMeasurementProducts(PHt, S);
+  S += cov;
   S = 0.5 * (S + S.transpose());
   const Eigen::LLT<Matrix6d> llt(S);
   if (llt.info() != Eigen::Success)
@@ -271,13 +264,23 @@ Eigen::Vector3d ImuEkf::cameraVelocityWorld(const Eigen::Vector3d& gyro) const
   return v_ + q_ * (gyro - bg_).cross(p_imu_camera_);
 }
 
+void ImuEkf::poseMeasurementProducts(Eigen::Matrix<double, kN, 6>& PHt, Matrix6d& HPHt) const
+{
+  const Eigen::Matrix3d M = -(q_.toRotationMatrix() * skew(p_imu_camera_));
+  PHt.leftCols<3>().noalias() = P_.middleCols<3>(kTheta) * x_->R_camera_imu.transpose();
+  PHt.rightCols<3>() = P_.middleCols<3>(kP);
+  PHt.rightCols<3>().noalias() += P_.middleCols<3>(kTheta) * M.transpose();
+  HPHt.topRows<3>().noalias() = x_->R_camera_imu * PHt.middleRows<3>(kTheta);
+  HPHt.bottomRows<3>() = PHt.middleRows<3>(kP);
+  HPHt.bottomRows<3>().noalias() += M * PHt.middleRows<3>(kTheta);
+}
+
 Matrix6d ImuEkf::cameraPoseCovariance() const
 {
-  Eigen::Matrix<double, 6, ImuEkf::kN> H = Eigen::Matrix<double, 6, ImuEkf::kN>::Zero();
-  H.block<3, 3>(0, kTheta) = x_->R_camera_imu;
-  H.block<3, 3>(3, kP).setIdentity();
-  H.block<3, 3>(3, kTheta) = -q_.toRotationMatrix() * skew(p_imu_camera_);
-  return H * P_ * H.transpose();
+  Eigen::Matrix<double, ImuEkf::kN, 6> PHt;
+  Matrix6d HPHt;
+  poseMeasurementProducts(PHt, HPHt);
+  return HPHt;
 }
 
 Eigen::Matrix3d ImuEkf::cameraVelocityCovariance() const { return P_.block<3, 3>(kV, kV); }

@@ -424,8 +424,7 @@ void ImuPropagator::checkGravity(const Pose& measured)
 {
   if (!checking_gravity_)
     return;
-  gravity_cursor_.meanTo(gravity_check_, due_ns_);
-  gravity_cursor_.flushCovariance(gravity_check_);
+  gravity_cursor_.flushCovariance(gravity_check_);  // its mean is at due_ns_ (catchUp)
   const double chi2 =
       gravity_check_.updateCameraPose(measured, vision_covariance_ * params_.vision_covariance_scale, kGate);
   const double ba = gravity_check_.accelBias().norm();

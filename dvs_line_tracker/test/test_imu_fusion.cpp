@@ -302,6 +302,29 @@ TEST(ImuEkf, WithoutTheAccelerometerAWrongGravityReachesNeitherTheOrientationNor
   }
 }
 
+namespace
+{
+/// Start `ekf` at a fixed pose and take it through 20 samples (1 ms) and camera-pose updates of a
+/// slow motion: its covariance then has every cross term, its biases are not zero. Returns the
+/// last pose it was updated with.
+Pose exerciseFilter(ImuEkf& ekf, bool accelerometer, const Eigen::Vector3d& gyro, const Eigen::Vector3d& accel)
+{
+  Eigen::Matrix3d R = Eigen::AngleAxisd(0.7, Eigen::Vector3d(0.3, -1, 0.4).normalized()).toRotationMatrix();
+  Eigen::Vector3d p(0.2, -0.1, -2);
+  ekf.start(Pose::fromWorldCamera(R, p), Eigen::Vector3d(0.5, 9.7, -0.4), ImuEkf::Keep::kNothing);
+  ekf.useAccelerometer(accelerometer);
+  for (int k = 0; k < 20; ++k)
+  {
+    ekf.propagateMean(gyro, accel, 1e-3);
+    ekf.propagateCovariance(gyro, accel, 1e-3);
+    p += Eigen::Vector3d(0.001, 0.0005, -0.0002);
+    R = R * Eigen::AngleAxisd(0.002, Eigen::Vector3d::UnitY()).toRotationMatrix();
+    ekf.updateCameraPose(Pose::fromWorldCamera(R, p), Matrix6d::Identity() * 1e-6, 1e12);
+  }
+  return Pose::fromWorldCamera(R, p);
+}
+}  // namespace
+
 TEST(ImuEkf, CovariancePropagationIsTheFullFPFtPlusQ)
 {
   // propagateCovariance works block by block; it must equal F P F^T + Q with the dense F of the
@@ -314,21 +337,9 @@ TEST(ImuEkf, CovariancePropagationIsTheFullFPFtPlusQ)
   {
     SCOPED_TRACE(accelerometer ? "with the accelerometer" : "without");
     ImuEkf ekf(params, x);
-    Eigen::Matrix3d R = Eigen::AngleAxisd(0.7, Eigen::Vector3d(0.3, -1, 0.4).normalized()).toRotationMatrix();
-    Eigen::Vector3d p(0.2, -0.1, -2);
-    ekf.start(Pose::fromWorldCamera(R, p), Eigen::Vector3d(0.5, 9.7, -0.4), ImuEkf::Keep::kNothing);
-    ekf.useAccelerometer(accelerometer);
     const Eigen::Vector3d gyro(0.9, -0.4, 2.1), accel(0.7, 9.5, -1.3);
     const double dt = 1e-3;
-    // Cross terms and biases from a few propagations and measurements.
-    for (int k = 0; k < 20; ++k)
-    {
-      ekf.propagateMean(gyro, accel, dt);
-      ekf.propagateCovariance(gyro, accel, dt);
-      p += Eigen::Vector3d(0.001, 0.0005, -0.0002);
-      R = R * Eigen::AngleAxisd(0.002, Eigen::Vector3d::UnitY()).toRotationMatrix();
-      ekf.updateCameraPose(Pose::fromWorldCamera(R, p), Matrix6d::Identity() * 1e-6, 1e12);
-    }
+    exerciseFilter(ekf, accelerometer, gyro, accel);
     const ImuEkf::MatrixNd P0 = ekf.covariance();
     const double cross = std::min(P0.block<3, 3>(ImuEkf::kTheta, ImuEkf::kBg).cwiseAbs().maxCoeff(),
                                   P0.block<3, 3>(ImuEkf::kP, ImuEkf::kV).cwiseAbs().maxCoeff());
@@ -368,18 +379,9 @@ TEST(ImuEkf, PoseUpdateCovarianceIsTheJosephForm)
   ImuExtrinsics x;
   ASSERT_EQ(parseImuExtrinsics(params, x), "");
   ImuEkf ekf(params, x);
-  Eigen::Matrix3d R = Eigen::AngleAxisd(0.7, Eigen::Vector3d(0.3, -1, 0.4).normalized()).toRotationMatrix();
-  Eigen::Vector3d p(0.2, -0.1, -2);
-  ekf.start(Pose::fromWorldCamera(R, p), Eigen::Vector3d(0.5, 9.7, -0.4), ImuEkf::Keep::kNothing);
-  const Eigen::Vector3d gyro(0.9, -0.4, 2.1), accel(0.7, 9.5, -1.3);
-  for (int k = 0; k < 20; ++k)
-  {
-    ekf.propagateMean(gyro, accel, 1e-3);
-    ekf.propagateCovariance(gyro, accel, 1e-3);
-    p += Eigen::Vector3d(0.001, 0.0005, -0.0002);
-    R = R * Eigen::AngleAxisd(0.002, Eigen::Vector3d::UnitY()).toRotationMatrix();
-    ekf.updateCameraPose(Pose::fromWorldCamera(R, p), Matrix6d::Identity() * 1e-6, 1e12);
-  }
+  const Pose last = exerciseFilter(ekf, true, Eigen::Vector3d(0.9, -0.4, 2.1), Eigen::Vector3d(0.7, 9.5, -1.3));
+  const Eigen::Matrix3d R = last.R_world_camera();
+  const Eigen::Vector3d p = last.p_world_camera();
   const ImuEkf::MatrixNd P0 = ekf.covariance();
   const double cross = P0.block<3, 3>(ImuEkf::kTheta, ImuEkf::kBa).cwiseAbs().maxCoeff();
   ASSERT_GT(cross, 0.0);

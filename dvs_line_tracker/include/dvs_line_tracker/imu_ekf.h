@@ -98,6 +98,9 @@ public:
 
 private:
   void inject(const VectorNd& dx);
+  /// P H^T and S0 = H P H^T of the camera pose measurement, by H's three 3x3 blocks (rotation
+  /// row: R_camera_imu at theta; position row: identity at p, -R_world_imu [p_imu_camera]x at theta).
+  void poseMeasurementProducts(Eigen::Matrix<double, kN, 6>& PHt, Matrix6d& HPHt) const;
 
   const ImuFusionParams* params_;  // pointers, not references: filters are assigned (ImuPropagator's gravity check)
   const ImuExtrinsics* x_;
